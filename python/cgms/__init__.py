@@ -1,0 +1,8 @@
+"""CGMS: coarse-grained multiscale model of plant-tissue drying, on LAMMPS.
+
+Plain functions on NumPy arrays: build tissues (:mod:`cgms.tissue`), read
+material files (:mod:`cgms.material`), run LAMMPS with the CGMS plugin
+(:mod:`cgms.run`). ``python3 -m cgms --help`` is the command line.
+"""
+
+__version__ = "0.1.0"

@@ -1,0 +1,105 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+------------------------------------------------------------------------- */
+
+#include "atom_vec_cgms.h"
+
+#include "atom.h"
+#include "cgms_store.h"
+#include "error.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+static constexpr char FIELD[] = "cgms";
+
+/* ---------------------------------------------------------------------- */
+
+AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullptr)
+{
+  molecular = Atom::ATOMIC;
+  mass_type = PER_ATOM;
+  atom->rmass_flag = 1;
+
+  // register the per-bead array once per Atom instance; read_restart and a
+  // second atom_style command construct this class again for the same Atom
+  bool registered = false;
+  for (const auto &item : atom->peratom)
+    if (item.name == FIELD) registered = true;
+  if (!registered)
+    atom->add_peratom(FIELD, &CGMS::store(lmp).cgms, Atom::DOUBLE, CGMS::NCOLUMNS);
+
+  // the whole array travels with a bead: its state columns must, and the
+  // derived ones are small enough that splitting them would cost more code
+  // than bytes. Ghosts need the dryness (LJ radius); the per-step coefficient
+  // they need is sent by fix cgms/fluid itself.
+  fields_grow = {"rmass", FIELD};
+  fields_copy = {"rmass", FIELD};
+  fields_border = {"rmass", FIELD};
+  fields_border_vel = {"rmass", FIELD};
+  fields_exchange = {"rmass", FIELD};
+  fields_restart = {"rmass", FIELD};
+  fields_create = {"rmass", FIELD};
+  fields_data_atom = {"id", "type", "x"};
+  fields_data_vel = {"id", "v"};
+
+  setup_fields();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecCGMS::init()
+{
+  AtomVec::init();
+  if (atom->avec != this)
+    error->all(FLERR, "Atom style cgms cannot be used as a sub-style of atom_style hybrid");
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecCGMS::grow_pointers()
+{
+  rmass = atom->rmass;
+  cgms = CGMS::store(lmp).cgms;
+}
+
+/* ----------------------------------------------------------------------
+   a new bead has no fluid state yet: fix cgms/fluid fills it from the
+   material parameters and its dryness at the next setup (MF0 <= 0 marks it).
+   The placeholder mass keeps LAMMPS's mass checks quiet until then.
+------------------------------------------------------------------------- */
+
+void AtomVecCGMS::create_atom_post(int ilocal)
+{
+  rmass[ilocal] = 1.0;
+  for (int k = 0; k < CGMS::NCOLUMNS; k++) cgms[ilocal][k] = 0.0;
+  cgms[ilocal][CGMS::MF0] = -1.0;
+}
+
+void AtomVecCGMS::data_atom_post(int ilocal)
+{
+  create_atom_post(ilocal);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int AtomVecCGMS::property_atom(const std::string &name)
+{
+  for (int k = 0; k < CGMS::NCOLUMNS; k++)
+    if (name == CGMS::column_names[k]) return k;
+  return -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecCGMS::pack_property_atom(int index, double *buf, int nvalues, int groupbit)
+{
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  int n = 0;
+  for (int i = 0; i < nlocal; i++) {
+    buf[n] = (mask[i] & groupbit) ? cgms[i][index] : 0.0;
+    n += nvalues;
+  }
+}

@@ -1,0 +1,179 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+------------------------------------------------------------------------- */
+
+#include "cgms_material.h"
+
+#include "comm.h"
+#include "error.h"
+#include "lammps.h"
+#include "math_const.h"
+#include "tokenizer.h"
+#include "utils.h"
+
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+using namespace LAMMPS_NS;
+using MathConst::MY_PI;
+
+namespace {
+
+enum Range { POSITIVE, NONNEGATIVE, NEGATIVE, ANY };
+
+struct Entry {
+  const char *name;
+  double CGMS::Material::*member;
+  Range range;
+  bool required;
+};
+
+// the one list of parameters: file keys, pair_coeff keys and checks
+const Entry entries[] = {
+    {"k_T", &CGMS::Material::k_T, POSITIVE, true},
+    {"k_PA", &CGMS::Material::k_PA, POSITIVE, true},
+    {"k_d", &CGMS::Material::k_d, POSITIVE, true},
+    {"f0_a", &CGMS::Material::f0_a, POSITIVE, true},
+    {"f0_r", &CGMS::Material::f0_r, POSITIVE, true},
+    {"beta_a", &CGMS::Material::beta_a, ANY, true},
+    {"beta_b", &CGMS::Material::beta_b, ANY, true},
+    {"lj_slope", &CGMS::Material::lj_slope, ANY, true},
+    {"r0", &CGMS::Material::r0, NONNEGATIVE, false},
+    {"diameter", &CGMS::Material::diameter, POSITIVE, true},
+    {"height", &CGMS::Material::height, POSITIVE, true},
+    {"pectin", &CGMS::Material::pectin, NONNEGATIVE, true},
+    {"perim_a", &CGMS::Material::perim_a, NONNEGATIVE, true},
+    {"perim_b", &CGMS::Material::perim_b, POSITIVE, true},
+    {"P_f", &CGMS::Material::P_f, POSITIVE, true},
+    {"Pi_f", &CGMS::Material::Pi_f, NEGATIVE, true},
+    {"K", &CGMS::Material::K, POSITIVE, true},
+    {"turgid_ratio", &CGMS::Material::turgid_ratio, POSITIVE, true},
+    {"rho0", &CGMS::Material::rho0, POSITIVE, true},
+    {"L_p", &CGMS::Material::L_p, POSITIVE, true},
+    {"solid_ratio", &CGMS::Material::solid_ratio, NONNEGATIVE, true},
+};
+constexpr int NENTRIES = sizeof(entries) / sizeof(entries[0]);
+
+const char *range_text(Range r)
+{
+  switch (r) {
+    case POSITIVE:
+      return "> 0";
+    case NONNEGATIVE:
+      return ">= 0";
+    case NEGATIVE:
+      return "< 0";
+    default:
+      return "finite";
+  }
+}
+
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   rank 0 reads the file (found through LAMMPS_POTENTIALS like any
+   potential file, its UNITS: tag checked), all ranks parse the same text
+------------------------------------------------------------------------- */
+
+void CGMS::Material::read_file(LAMMPS *lmp, const std::string &file)
+{
+  std::string text;
+  int ok = 1;
+  if (lmp->comm->me == 0) {
+    FILE *fp = utils::open_potential(file, lmp, nullptr);
+    if (!fp) {
+      ok = 0;
+    } else {
+      char buf[4096];
+      size_t n;
+      while ((n = fread(buf, 1, sizeof(buf), fp)) > 0) text.append(buf, n);
+      fclose(fp);
+    }
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, lmp->world);
+  if (!ok)
+    lmp->error->all(FLERR,
+                    "Cannot open CGMS material file {}: give a path, or put it in a folder "
+                    "listed in LAMMPS_POTENTIALS",
+                    file);
+  int len = text.size();
+  MPI_Bcast(&len, 1, MPI_INT, 0, lmp->world);
+  text.resize(len);
+  MPI_Bcast(text.data(), len, MPI_CHAR, 0, lmp->world);
+
+  std::set<std::string> seen;
+  int lineno = 0;
+  for (const auto &rawline : Tokenizer(text, "\n").as_vector()) {
+    ++lineno;
+    std::string line = utils::trim_comment(rawline);
+    auto words = utils::split_words(line);
+    if (words.empty()) continue;
+    auto where = fmt::format("CGMS material file {} line {}", file, lineno);
+    if (words.size() != 2)
+      lmp->error->all(FLERR, "{}: expected 'name value', got '{}'", where, utils::trim(rawline));
+    if (!seen.insert(words[0]).second)
+      lmp->error->all(FLERR, "{}: parameter {} given twice", where, words[0]);
+    set(lmp, words[0], words[1], where);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void CGMS::Material::set(LAMMPS *lmp, const std::string &name, const std::string &value,
+                         const std::string &where)
+{
+  for (int k = 0; k < NENTRIES; k++) {
+    const auto &e = entries[k];
+    if (name != e.name) continue;
+    if (!utils::is_double(value))
+      lmp->error->all(FLERR, "{}: value '{}' of parameter {} is not a number", where, value,
+                      name);
+    this->*e.member = std::stod(value);
+    given |= 1UL << k;
+    return;
+  }
+  std::string known;
+  for (const auto &e : entries) known += std::string(" ") + e.name;
+  lmp->error->all(FLERR, "{}: unknown CGMS parameter '{}' (known:{})", where, name, known);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void CGMS::Material::finish(LAMMPS *lmp, const std::string &where)
+{
+  for (int k = 0; k < NENTRIES; k++) {
+    const auto &e = entries[k];
+    if (e.required && !(given & (1UL << k)))
+      lmp->error->all(FLERR, "{}: CGMS parameter {} is missing", where, e.name);
+    const double v = this->*e.member;
+    bool good = std::isfinite(v);
+    if (e.range == POSITIVE) good = good && v > 0.0;
+    if (e.range == NONNEGATIVE) good = good && v >= 0.0;
+    if (e.range == NEGATIVE) good = good && v < 0.0;
+    if (!good)
+      lmp->error->all(FLERR, "{}: CGMS parameter {} = {} must be {}", where, e.name, v,
+                      range_text(e.range));
+  }
+  if (perim_a >= perim_b)
+    lmp->error->all(FLERR, "{}: perim_a ({}) must be below perim_b ({}) so that l_d > 0", where,
+                    perim_a, perim_b);
+
+  A_ref = MY_PI * diameter * diameter / 4.0;
+  b_ref = sqrt(2.0 * A_ref / (3.0 * sqrt(3.0)));
+  l_ref = 6.0 * b_ref;
+  x_ref = sqrt(3.0) * b_ref + pectin;
+  if (r0 == 0.0) r0 = x_ref;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double CGMS::Material::beta(double s) const
+{
+  return beta_a + beta_b * log(s);
+}
+
+double CGMS::Material::lj_radius(double s) const
+{
+  return r0 * (1.0 + lj_slope * log(s));
+}

@@ -1,0 +1,61 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+------------------------------------------------------------------------- */
+
+#ifndef LMP_CGMS_MATERIAL_H
+#define LMP_CGMS_MATERIAL_H
+
+#include <string>
+
+namespace LAMMPS_NS {
+
+class LAMMPS;
+
+namespace CGMS {
+
+  // Material parameters of one plant tissue (MODEL.md section 7), SI units,
+  // plus the reference-cell quantities derived from them (section 3).
+  struct Material {
+    double k_T = 0.0;             // turgor coefficient (N/Pa)
+    double k_PA = 0.0;            // perimeter adjustment coefficient (N/m)
+    double k_d = 0.0;             // damping coefficient (N s/m)
+    double f0_a = 0.0;            // LJ attraction strength (N m)
+    double f0_r = 0.0;            // LJ repulsion strength (N m)
+    double beta_a = 0.0;          // beta(s) = beta_a + beta_b ln s
+    double beta_b = 0.0;
+    double lj_slope = 0.0;        // r = r0 (1 + lj_slope ln s_ik)
+    double r0 = 0.0;              // fresh LJ radius (m); 0 selects x_ref
+    double diameter = 0.0;        // cell diameter D (m)
+    double height = 0.0;          // virtual-cell height h (m)
+    double pectin = 0.0;          // pectin layer d_p (m)
+    double perim_a = 0.0;         // a of eqn (9)
+    double perim_b = 0.0;         // b of eqn (9)
+    double P_f = 0.0;             // fresh turgor (Pa)
+    double Pi_f = 0.0;            // fresh osmotic potential (Pa), negative
+    double K = 0.0;               // compression modulus (Pa)
+    double turgid_ratio = 0.0;    // l0' / l_ref
+    double rho0 = 0.0;            // fresh fluid density (kg/m^3)
+    double L_p = 0.0;             // membrane conductivity (m/(Pa s))
+    double solid_ratio = 0.0;     // m_s / m_f at any dryness (paper: 10 %)
+
+    unsigned long given = 0;      // bit k set: parameter k was given
+
+    // derived by finish()
+    double A_ref = 0.0, b_ref = 0.0, l_ref = 0.0, x_ref = 0.0;
+
+    // read "name value" lines; error->all() names any problem
+    void read_file(LAMMPS *lmp, const std::string &file);
+    // set one parameter by name (material file line or pair_coeff override)
+    void set(LAMMPS *lmp, const std::string &name, const std::string &value,
+             const std::string &where);
+    // check ranges and completeness, derive the reference cell
+    void finish(LAMMPS *lmp, const std::string &where);
+
+    double beta(double s) const;
+    double lj_radius(double s) const;
+  };
+
+}    // namespace CGMS
+}    // namespace LAMMPS_NS
+
+#endif

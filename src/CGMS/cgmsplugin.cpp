@@ -1,0 +1,62 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   Registers every CGMS style. `plugin load cgmsplugin.so` (or a folder in
+   LAMMPS_PLUGIN_PATH) makes atom_style cgms, pair_style cgms and
+   fix cgms/fluid available.
+------------------------------------------------------------------------- */
+
+#include "lammpsplugin.h"
+
+#include "atom.h"
+#include "atom_vec_cgms.h"
+#include "comm.h"
+#include "fix_cgms_fluid.h"
+#include "lammps.h"
+#include "pair_cgms.h"
+#include "version.h"
+
+using namespace LAMMPS_NS;
+
+static Pair *pair_cgms_creator(LAMMPS *lmp)
+{
+  return new PairCGMS(lmp);
+}
+
+static Fix *fix_cgms_fluid_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixCGMSFluid(lmp, argc, argv);
+}
+
+static AtomVec *atom_vec_cgms_creator(LAMMPS *lmp)
+{
+  return new AtomVecCGMS(lmp);
+}
+
+extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
+{
+  auto lmp = static_cast<LAMMPS *>(lmp_ptr);
+  auto register_plugin = (lammpsplugin_regfunc) regfunc;
+  lammpsplugin_t plugin;
+
+  plugin.version = LAMMPS_VERSION;
+  plugin.author = "CGMS developers";
+  plugin.handle = handle;
+
+  plugin.style = "pair";
+  plugin.name = "cgms";
+  plugin.info = "CGMS pair style: turgor, perimeter, damping and LJ forces between plant-cell beads";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_cgms_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "fix";
+  plugin.name = "cgms/fluid";
+  plugin.info = "CGMS fix: virtual-cell geometry, turgor pressure and mass transfer";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_cgms_fluid_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  // LAMMPS's plugin loader has no atom styles; the creator map is public,
+  // so the style is added to this instance's map directly
+  (*lmp->atom->avec_map)["cgms"] = &atom_vec_cgms_creator;
+  if (lmp->comm->me == 0) utils::logmesg(lmp, "Loading plugin: CGMS atom style cgms\n");
+}

@@ -1,0 +1,481 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+------------------------------------------------------------------------- */
+
+#include "fix_cgms_fluid.h"
+
+#include "atom.h"
+#include "atom_vec_cgms.h"
+#include "cgms_store.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "input.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair_cgms.h"
+#include "update.h"
+#include "variable.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using namespace CGMS;
+
+static const double SQRT3 = sqrt(3.0);
+static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
+
+/* ----------------------------------------------------------------------
+   fix ID all cgms/fluid keyword value ...
+------------------------------------------------------------------------- */
+
+FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
+    dryness_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
+    allow_isolated(0), comm_column(COEF), dryness_work(nullptr), nmax_work(0), vector_step(-1)
+{
+  if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
+
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Fix cgms/fluid keyword {} needs a value", key);
+    const char *val = arg[iarg + 1];
+    if (key == "dryness") {
+      if (utils::strmatch(val, "^v_")) {
+        delete[] dryness_var;
+        dryness_var = utils::strdup(val + 2);
+      } else {
+        dryness_value = utils::numeric(FLERR, val, false, lmp);
+        if (!(dryness_value > 0.0 && dryness_value <= 1.0))
+          error->all(FLERR, "Fix cgms/fluid dryness {} is out of range: it must be in (0, 1]",
+                     dryness_value);
+      }
+    } else if (key == "every") {
+      dryness_every = utils::inumeric(FLERR, val, false, lmp);
+      if (dryness_every < 0) error->all(FLERR, "Fix cgms/fluid every must be >= 0");
+    } else if (key == "density") {
+      if (strcmp(val, "exact") == 0)
+        density_rate = 0;
+      else if (strcmp(val, "rate") == 0)
+        density_rate = 1;
+      else
+        error->all(FLERR, "Fix cgms/fluid density must be 'exact' or 'rate', not '{}'", val);
+    } else if (key == "inertia") {
+      if (strcmp(val, "fresh") == 0)
+        inertia_fluid = 0;
+      else if (strcmp(val, "fluid") == 0)
+        inertia_fluid = 1;
+      else
+        error->all(FLERR, "Fix cgms/fluid inertia must be 'fresh' or 'fluid', not '{}'", val);
+    } else if (key == "transfer") {
+      transfer = utils::logical(FLERR, val, false, lmp);
+    } else if (key == "isolated") {
+      if (strcmp(val, "error") == 0)
+        allow_isolated = 0;
+      else if (strcmp(val, "allow") == 0)
+        allow_isolated = 1;
+      else
+        error->all(FLERR, "Fix cgms/fluid isolated must be 'error' or 'allow', not '{}'", val);
+    } else {
+      error->all(FLERR,
+                 "Unknown fix cgms/fluid keyword '{}' (known: dryness every density inertia "
+                 "transfer isolated)",
+                 key);
+    }
+    iarg += 2;
+  }
+  if (dryness_every > 0 && !dryness_var)
+    error->all(FLERR, "Fix cgms/fluid every needs a variable dryness (dryness v_name)");
+
+  vector_flag = 1;
+  size_vector = 4;
+  global_freq = 1;
+  extvector = 0;
+  peratom_flag = 1;
+  size_peratom_cols = NCOLUMNS;
+  peratom_freq = 1;
+  comm_forward = 1;
+  comm_reverse = 2;
+
+  array_atom = store(lmp).cgms;
+  atom->add_callback(Atom::GROW);
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixCGMSFluid::~FixCGMSFluid()
+{
+  if (modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
+  delete[] dryness_var;
+  memory->destroy(dryness_work);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixCGMSFluid::setmask()
+{
+  return PRE_FORCE | MIN_PRE_FORCE | END_OF_STEP;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSFluid::init()
+{
+  if (strcmp(update->unit_style, "si") != 0)
+    error->all(FLERR, "Fix cgms/fluid requires units si (found units {})", update->unit_style);
+  if (domain->dimension != 2) error->all(FLERR, "Fix cgms/fluid requires dimension 2");
+  if (!dynamic_cast<AtomVecCGMS *>(atom->avec))
+    error->all(FLERR, "Fix cgms/fluid requires atom_style cgms (found atom_style {})",
+               atom->atom_style);
+  if (modify->get_fix_by_style("^cgms/fluid$").size() > 1)
+    error->all(FLERR, "Only one fix cgms/fluid may be defined");
+  pair = dynamic_cast<PairCGMS *>(force->pair);
+  if (!pair)
+    error->all(FLERR,
+               "Fix cgms/fluid requires pair_style cgms: the pair style holds the material "
+               "parameters and applies the forces");
+
+  if (dryness_var) {
+    dryness_ivar = input->variable->find(dryness_var);
+    if (dryness_ivar < 0)
+      error->all(FLERR, "Variable {} for fix cgms/fluid dryness does not exist", dryness_var);
+    if (!input->variable->equalstyle(dryness_ivar) && !input->variable->atomstyle(dryness_ivar))
+      error->all(FLERR, "Variable {} for fix cgms/fluid dryness must be equal- or atom-style",
+                 dryness_var);
+  }
+
+  neighbor->add_request(this);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSFluid::init_list(int, NeighList *ptr)
+{
+  list = ptr;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSFluid::grow_arrays(int)
+{
+  array_atom = store(lmp).cgms;
+}
+
+/* ----------------------------------------------------------------------
+   setup: dryness from the keyword, fresh state for new beads, then the
+   geometry and pressure the first force evaluation needs
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::setup_pre_force(int)
+{
+  array_atom = store(lmp).cgms;
+  apply_dryness();
+  initialise_beads();
+  update_fluid_state(0);
+}
+
+void FixCGMSFluid::pre_force(int)
+{
+  if (dryness_every > 0 && update->ntimestep % dryness_every == 0) apply_dryness();
+  update_fluid_state(1);
+}
+
+void FixCGMSFluid::min_pre_force(int)
+{
+  update_fluid_state(0);
+}
+
+/* ----------------------------------------------------------------------
+   set the DRYNESS column of local beads and send it to the ghosts
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::apply_dryness()
+{
+  double **cg = store(lmp).cgms;
+  const int nlocal = atom->nlocal;
+
+  if (!dryness_var) {
+    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = dryness_value;
+  } else if (input->variable->equalstyle(dryness_ivar)) {
+    const double s = input->variable->compute_equal(dryness_ivar);
+    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = s;
+  } else {
+    if (atom->nmax > nmax_work) {
+      nmax_work = atom->nmax;
+      memory->destroy(dryness_work);
+      memory->create(dryness_work, nmax_work, "cgms/fluid:dryness_work");
+    }
+    input->variable->compute_atom(dryness_ivar, igroup, dryness_work, 1, 0);
+    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = dryness_work[i];
+  }
+
+  int bad = -1;
+  for (int i = 0; i < nlocal && bad < 0; i++)
+    if (!(cg[i][DRYNESS] > 0.0 && cg[i][DRYNESS] <= 1.0)) bad = i;
+  if (bad >= 0)
+    error->one(FLERR, "Fix cgms/fluid: dryness {} of bead {} is out of range: it must be in (0, 1]",
+               cg[bad][DRYNESS], atom->tag[bad]);
+
+  forward(DRYNESS);
+}
+
+/* ----------------------------------------------------------------------
+   beads read from a data file or created carry MF0 <= 0: give them the
+   reference cell at their dryness (MODEL.md section 3)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::initialise_beads()
+{
+  const Material &mat = pair->material();
+  double **cg = store(lmp).cgms;
+  double *rmass = atom->rmass;
+  const int nlocal = atom->nlocal;
+  const double mf0 = mat.rho0 * mat.height * mat.A_ref;
+
+  for (int i = 0; i < nlocal; i++) {
+    double *c = cg[i];
+    if (c[MF0] <= 0.0) {
+      const double s = c[DRYNESS];
+      c[MF0] = mf0;
+      c[L0P] = mat.turgid_ratio * mat.l_ref;
+      c[MF] = s * mf0;
+      c[MS] = mat.solid_ratio * s * mf0;
+      c[RHO] = s * mat.rho0;
+      c[AREA] = 0.0;    // no previous area: the rate form starts from m_f / (h A)
+      c[DMDT] = 0.0;
+    }
+    rmass[i] = inertia_fluid ? c[MF] + c[MS] : (1.0 + mat.solid_ratio) * c[MF0];
+  }
+}
+
+/* ----------------------------------------------------------------------
+   geometry (eqns 10-11), density, pressure (eqn 4), l_d (eqn 9), dm/dt
+   (eqn 7) and the pair coefficient, for every local bead
+   advance_density = 1: one step of the rate form of eqns (5)-(6)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::update_fluid_state(int advance_density)
+{
+  const Material &mat = pair->material();
+  double **x = atom->x;
+  double **cg = store(lmp).cgms;
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  const int newton_pair = force->newton_pair;
+  const double cut = pair->cutoff();
+  const double cutsq = cut * cut;
+
+  // pass 1: neighbour count and sum of centre distances, in NNEIGH and SIDE
+
+  const int nclear = newton_pair ? nall : nlocal;
+  for (int i = 0; i < nclear; i++) cg[i][NNEIGH] = cg[i][SIDE] = 0.0;
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double xtmp = x[i][0];
+    const double ytmp = x[i][1];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    double n = 0.0, sum = 0.0;
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double delx = xtmp - x[j][0];
+      const double dely = ytmp - x[j][1];
+      const double rsq = delx * delx + dely * dely;
+      if (rsq >= cutsq) continue;
+      const double r = sqrt(rsq);
+      n += 1.0;
+      sum += r;
+      if (newton_pair || j < nlocal) {
+        cg[j][NNEIGH] += 1.0;
+        cg[j][SIDE] += r;
+      }
+    }
+    cg[i][NNEIGH] += n;
+    cg[i][SIDE] += sum;
+  }
+  if (newton_pair) comm->reverse_comm(this);
+
+  // pass 2: per-bead fluid state
+
+  const double dt = update->dt;
+  const double kT = pair->turgor ? mat.k_T : 0.0;
+  const double kPA = pair->perimeter ? mat.k_PA : 0.0;
+  const double b_ref = mat.b_ref;
+  int isolated = -1, nonfinite = -1;
+
+  for (int i = 0; i < nlocal; i++) {
+    double *c = cg[i];
+    const double s = c[DRYNESS];
+    const double nn = c[NNEIGH];
+    double b;
+    if (nn > 0.0) {
+      const double b_int = (c[SIDE] - nn * mat.pectin) / (SQRT3 * nn);
+      const double beta = pair->periphery ? mat.beta(s) : 1.0;
+      b = b_int / 6.0 * (nn + beta * MAX(0.0, 6.0 - nn));
+    } else {
+      if (!allow_isolated && isolated < 0) isolated = i;
+      b = b_ref;
+    }
+    const double area = HEX_AREA * b * b;
+    const double perim = 6.0 * b;
+
+    double rho;
+    if (density_rate && advance_density && c[AREA] > 0.0) {
+      const double area_old = c[AREA];
+      rho = c[RHO] - c[RHO] * (area - area_old) / area_old +
+          dt * c[DMDT] / (mat.height * area_old);
+    } else if (density_rate && !advance_density && c[AREA] > 0.0) {
+      rho = c[RHO];
+    } else {
+      rho = c[MF] / (mat.height * area);
+    }
+
+    const double rho_ref = s * mat.rho0;
+    const double q = rho / rho_ref;
+    const double q2 = q * q;
+    const double press = s * mat.P_f + mat.K * (q2 * q2 * q2 * q - 1.0);
+    const double ldeq = c[L0P] * (1.0 - mat.perim_a / mat.perim_b * (1.0 - s));
+
+    c[SIDE] = b;
+    c[AREA] = area;
+    c[PERIM] = perim;
+    c[RHO] = rho;
+    c[PRESS] = press;
+    c[LDEQ] = ldeq;
+    c[DMDT] = transfer ? -perim * mat.height * mat.L_p * rho * (press + s * mat.Pi_f) : 0.0;
+    c[COEF] = 0.5 * (kT * (press - mat.P_f) - kPA * (perim - ldeq));
+    if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
+  }
+
+  if (isolated >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has no neighbour within the cutoff {:.6g} m (use "
+               "'isolated allow' to give isolated beads the reference cell)",
+               atom->tag[isolated], cut);
+  if (nonfinite >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has a non-finite pressure at step {}: the simulation "
+               "became unstable; reduce the time step (now {:.6g} s)",
+               atom->tag[nonfinite], update->ntimestep, dt);
+
+  if (pair->pair_coefficient_needed()) forward(COEF);
+}
+
+/* ----------------------------------------------------------------------
+   mass transfer, explicit Euler with the rate of this step (MODEL.md 8)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::end_of_step()
+{
+  if (!transfer) return;
+  double **cg = store(lmp).cgms;
+  double *rmass = atom->rmass;
+  const int nlocal = atom->nlocal;
+  const double dt = update->dt;
+  int bad = -1;
+
+  for (int i = 0; i < nlocal; i++) {
+    double *c = cg[i];
+    c[MF] += dt * c[DMDT];
+    if (!(c[MF] > 0.0) && bad < 0) bad = i;
+    if (inertia_fluid) rmass[i] = c[MF] + c[MS];
+  }
+  if (bad >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
+               "unstable; reduce the time step (now {:.6g} s)",
+               atom->tag[bad], cg[bad][MF], update->ntimestep, dt);
+}
+
+/* ----------------------------------------------------------------------
+   global outputs: 1 residual max|P + Pi|/|Pi_f|, 2 X/X0 = sum m_f / sum m_f0,
+   3 largest bead speed, 4 kinetic energy
+------------------------------------------------------------------------- */
+
+double FixCGMSFluid::compute_vector(int n)
+{
+  if (vector_step != update->ntimestep) refresh_vector();
+  return vector_cache[n];
+}
+
+void FixCGMSFluid::refresh_vector()
+{
+  const Material &mat = pair->material();
+  double **cg = store(lmp).cgms;
+  double **v = atom->v;
+  double *rmass = atom->rmass;
+  const int nlocal = atom->nlocal;
+
+  double local_max[2] = {0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
+  for (int i = 0; i < nlocal; i++) {
+    const double *c = cg[i];
+    local_max[0] = MAX(local_max[0], fabs(c[PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
+    const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
+    local_max[1] = MAX(local_max[1], v2);
+    local_sum[0] += c[MF];
+    local_sum[1] += c[MF0];
+    local_sum[2] += 0.5 * rmass[i] * v2;
+  }
+  double global_max[2], global_sum[3];
+  MPI_Allreduce(local_max, global_max, 2, MPI_DOUBLE, MPI_MAX, world);
+  MPI_Allreduce(local_sum, global_sum, 3, MPI_DOUBLE, MPI_SUM, world);
+
+  vector_cache[0] = global_max[0];
+  vector_cache[1] = global_sum[1] > 0.0 ? global_sum[0] / global_sum[1] : 0.0;
+  vector_cache[2] = sqrt(global_max[1]);
+  vector_cache[3] = global_sum[2];
+  vector_step = update->ntimestep;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSFluid::forward(int column)
+{
+  comm_column = column;
+  comm->forward_comm(this);
+}
+
+int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
+{
+  double **cg = store(lmp).cgms;
+  for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
+  return n;
+}
+
+void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **cg = store(lmp).cgms;
+  for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
+}
+
+int FixCGMSFluid::pack_reverse_comm(int n, int first, double *buf)
+{
+  double **cg = store(lmp).cgms;
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    buf[m++] = cg[i][NNEIGH];
+    buf[m++] = cg[i][SIDE];
+  }
+  return m;
+}
+
+void FixCGMSFluid::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  double **cg = store(lmp).cgms;
+  int m = 0;
+  for (int i = 0; i < n; i++) {
+    cg[list[i]][NNEIGH] += buf[m++];
+    cg[list[i]][SIDE] += buf[m++];
+  }
+}

@@ -1,0 +1,65 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+------------------------------------------------------------------------- */
+
+#ifndef LMP_FIX_CGMS_FLUID_H
+#define LMP_FIX_CGMS_FLUID_H
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+// The fluid phase of the CGMS model: each step the virtual-cell geometry
+// (eqns 10-11), density, turgor pressure (eqn 4), equilibrium perimeter
+// (eqn 9) and the per-bead pair coefficient used by pair_style cgms; after
+// the step, mass transfer through the virtual membrane (eqn 7).
+class FixCGMSFluid : public Fix {
+ public:
+  FixCGMSFluid(class LAMMPS *, int, char **);
+  ~FixCGMSFluid() override;
+
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup_pre_force(int) override;
+  void pre_force(int) override;
+  void min_pre_force(int) override;
+  void end_of_step() override;
+  double compute_vector(int) override;
+  void grow_arrays(int) override;
+
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+  int pack_reverse_comm(int, int, double *) override;
+  void unpack_reverse_comm(int, int *, double *) override;
+
+ private:
+  class PairCGMS *pair;
+  class NeighList *list;
+
+  double dryness_value;    // constant dryness, or
+  char *dryness_var;       // name of an equal- or atom-style variable
+  int dryness_ivar;
+  int dryness_every;       // re-evaluate the variable every this many steps (0: at setup)
+  int density_rate;        // 1: literal rate form of eqns (5)-(6); 0: rho = m_f / (h A)
+  int inertia_fluid;       // 1: rmass = m_f + m_s (paper); 0: fresh mass (stable default)
+  int transfer;            // mass transfer on/off
+  int allow_isolated;      // a bead without neighbours: error (0) or reference cell (1)
+
+  int comm_column;         // column sent by forward communication
+  double *dryness_work;    // per-atom values of an atom-style dryness variable
+  int nmax_work;
+
+  bigint vector_step;      // step of the cached global outputs
+  double vector_cache[4];
+
+  void apply_dryness();
+  void initialise_beads();
+  void update_fluid_state(int advance_density);
+  void forward(int column);
+  void refresh_vector();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

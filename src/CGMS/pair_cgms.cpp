@@ -1,0 +1,330 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+------------------------------------------------------------------------- */
+
+#include "pair_cgms.h"
+
+#include "atom.h"
+#include "atom_vec_cgms.h"
+#include "cgms_store.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+// default interaction cutoff in units of the lattice spacing x_ref: holds the
+// first hexagonal shell over the whole dryness range, never the second
+static constexpr double CUTOFF_XREF = 1.35;
+
+enum { LJ_REPULSION = 1, LJ_ATTRACTION = 2 };
+
+/* ---------------------------------------------------------------------- */
+
+PairCGMS::PairCGMS(LAMMPS *lmp) :
+    Pair(lmp), turgor(1), perimeter(1), periphery(1), damping(1), repulsion(1), attraction(1),
+    cut_user(0.0), cut_global(0.0)
+{
+  single_enable = 0;
+  restartinfo = 1;
+  one_coeff = 1;
+  manybody_flag = 1;    // forces depend on the neighbours' neighbours through N_k and l_k
+  centroidstressflag = CENTROID_NOTAVAIL;
+}
+
+/* ---------------------------------------------------------------------- */
+
+PairCGMS::~PairCGMS()
+{
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairCGMS::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes + 1;
+  memory->create(setflag, n, n, "pair:setflag");
+  memory->create(cutsq, n, n, "pair:cutsq");
+  for (int i = 0; i < n; i++)
+    for (int j = 0; j < n; j++) setflag[i][j] = 0;
+}
+
+/* ----------------------------------------------------------------------
+   pair_style cgms keyword value ...
+------------------------------------------------------------------------- */
+
+void PairCGMS::settings(int narg, char **arg)
+{
+  int iarg = 0;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Pair style cgms keyword {} needs a value", key);
+    if (key == "cutoff") {
+      cut_user = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (cut_user <= 0.0) error->all(FLERR, "Pair style cgms cutoff must be > 0");
+    } else if (key == "turgor") {
+      turgor = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+    } else if (key == "perimeter") {
+      perimeter = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+    } else if (key == "periphery") {
+      periphery = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+    } else if (key == "damping") {
+      damping = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+    } else if (key == "repulsion") {
+      repulsion = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+    } else if (key == "attraction") {
+      attraction = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+    } else {
+      error->all(FLERR,
+                 "Unknown pair style cgms keyword '{}' (known: cutoff turgor perimeter periphery "
+                 "damping repulsion attraction)",
+                 key);
+    }
+    iarg += 2;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff * * material-file [name value ...]
+------------------------------------------------------------------------- */
+
+void PairCGMS::coeff(int narg, char **arg)
+{
+  if (narg < 3 || (narg - 3) % 2 != 0)
+    error->all(FLERR, "Pair coeff for cgms: expected '* * material-file [name value ...]'");
+  if (strcmp(arg[0], "*") != 0 || strcmp(arg[1], "*") != 0)
+    error->all(FLERR, "Pair coeff for cgms must be '* *': one material for all bead types");
+  if (!allocated) allocate();
+
+  mat = CGMS::Material();
+  mat.read_file(lmp, arg[2]);
+  for (int iarg = 3; iarg < narg; iarg += 2)
+    mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
+  mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
+
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairCGMS::init_style()
+{
+  if (strcmp(update->unit_style, "si") != 0)
+    error->all(FLERR, "Pair style cgms requires units si (found units {})", update->unit_style);
+  if (domain->dimension != 2) error->all(FLERR, "Pair style cgms requires dimension 2");
+  if (!dynamic_cast<AtomVecCGMS *>(atom->avec))
+    error->all(FLERR, "Pair style cgms requires atom_style cgms (found atom_style {})",
+               atom->atom_style);
+  if (modify->get_fix_by_style("^cgms/fluid$").empty())
+    error->all(FLERR,
+               "Pair style cgms requires fix cgms/fluid: it computes the virtual-cell geometry, "
+               "pressure and dryness the forces use");
+  if (damping && !comm->ghost_velocity)
+    error->all(FLERR,
+               "Pair style cgms with damping requires 'comm_modify vel yes' (ghost velocities)");
+
+  cut_global = cut_user > 0.0 ? cut_user : CUTOFF_XREF * mat.x_ref;
+  if (cut_global <= mat.x_ref)
+    error->all(FLERR,
+               "Pair style cgms cutoff {:.6g} m is not above the lattice spacing x_ref = {:.6g} m: "
+               "beads would see no neighbours",
+               cut_global, mat.x_ref);
+
+  neighbor->add_request(this);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairCGMS::init_one(int, int)
+{
+  return cut_global;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairCGMS::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  const int lj = (repulsion ? LJ_REPULSION : 0) | (attraction ? LJ_ATTRACTION : 0);
+  const int pc = pair_coefficient_needed() ? 1 : 0;
+
+  // every combination of effects gets its own loop, so a switched-off effect
+  // costs neither flops nor branches in the inner loop
+#define CGMS_DISPATCH(EV, PC, LJ, DAMP) \
+  if (evflag == EV && pc == PC && lj == LJ && damping == DAMP) return eval<EV, PC, LJ, DAMP>();
+#define CGMS_DISPATCH_LJ(EV, PC, DAMP) \
+  CGMS_DISPATCH(EV, PC, 0, DAMP)       \
+  CGMS_DISPATCH(EV, PC, 1, DAMP)       \
+  CGMS_DISPATCH(EV, PC, 2, DAMP)       \
+  CGMS_DISPATCH(EV, PC, 3, DAMP)
+#define CGMS_DISPATCH_ALL(EV) \
+  CGMS_DISPATCH_LJ(EV, 0, 0)  \
+  CGMS_DISPATCH_LJ(EV, 0, 1)  \
+  CGMS_DISPATCH_LJ(EV, 1, 0)  \
+  CGMS_DISPATCH_LJ(EV, 1, 1)
+  CGMS_DISPATCH_ALL(0)
+  CGMS_DISPATCH_ALL(1)
+#undef CGMS_DISPATCH_ALL
+#undef CGMS_DISPATCH_LJ
+#undef CGMS_DISPATCH
+}
+
+/* ----------------------------------------------------------------------
+   force on bead i from neighbour k, n = (x_i - x_k)/|x_i - x_k|:
+     turgor + perimeter: (c_i + c_k) n, c from fix cgms/fluid
+     LJ:                 f0 [(r/x)^8 - (r/x)^4] / x^2 (x_i - x_k)
+     damping:           -k_d (v_i - v_k)
+   the LJ energy U = f0 [(r/x)^8/8 - (r/x)^4/4] plus constants that keep it
+   continuous at x = r
+------------------------------------------------------------------------- */
+
+template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  double **f = atom->f;
+  double **cg = CGMS::store(lmp).cgms;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+
+  const double cutsq_one = cut_global * cut_global;
+  const double f0r = mat.f0_r;
+  const double f0a = mat.f0_a;
+  const double kd = mat.k_d;
+  // energy offsets that make U continuous at x = r and zero at x = r from below
+  const double e_in = (LJ & LJ_REPULSION ? 0.125 * f0r : 0.0) -
+      (LJ & LJ_ATTRACTION ? 0.125 * f0a : 0.0);
+
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double xtmp = x[i][0];
+    const double ytmp = x[i][1];
+    const double ci = PAIRCOEF ? cg[i][CGMS::COEF] : 0.0;
+    const double si = LJ ? cg[i][CGMS::DRYNESS] : 0.0;
+    const double radi = LJ ? mat.lj_radius(si) : 0.0;
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    double fxtmp = 0.0, fytmp = 0.0;
+
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double delx = xtmp - x[j][0];
+      const double dely = ytmp - x[j][1];
+      const double rsq = delx * delx + dely * dely;
+      if (rsq >= cutsq_one) continue;
+
+      double fpair = 0.0;
+      double evdwl = 0.0;
+      if (PAIRCOEF) fpair += (ci + cg[j][CGMS::COEF]) / sqrt(rsq);
+      if (LJ) {
+        const double sj = cg[j][CGMS::DRYNESS];
+        const double rad = (sj == si) ? radi : mat.lj_radius(0.5 * (si + sj));
+        const double q2 = rad * rad / rsq;
+        const double q4 = q2 * q2;
+        const double q8 = q4 * q4;
+        if (q2 >= 1.0) {
+          if (LJ & LJ_REPULSION) fpair += f0r * (q8 - q4) / rsq;
+          if (EVFLAG && eflag_either) evdwl = (LJ & LJ_REPULSION ? f0r * (0.125 * q8 - 0.25 * q4) : 0.0) + e_in;
+        } else if (LJ & LJ_ATTRACTION) {
+          fpair += f0a * (q8 - q4) / rsq;
+          if (EVFLAG && eflag_either) evdwl = f0a * (0.125 * q8 - 0.25 * q4);
+        }
+      }
+
+      double fx = fpair * delx;
+      double fy = fpair * dely;
+      if (DAMP) {
+        fx -= kd * (v[i][0] - v[j][0]);
+        fy -= kd * (v[i][1] - v[j][1]);
+      }
+
+      fxtmp += fx;
+      fytmp += fy;
+      if (newton_pair || j < nlocal) {
+        f[j][0] -= fx;
+        f[j][1] -= fy;
+      }
+      if (EVFLAG) ev_tally_xyz(i, j, nlocal, newton_pair, evdwl, 0.0, fx, fy, 0.0, delx, dely, 0.0);
+    }
+    f[i][0] += fxtmp;
+    f[i][1] += fytmp;
+  }
+
+  if (vflag_fdotr) virial_fdotr_compute();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairCGMS::write_restart_settings(FILE *fp)
+{
+  int flags[6] = {turgor, perimeter, periphery, damping, repulsion, attraction};
+  fwrite(&cut_user, sizeof(double), 1, fp);
+  fwrite(flags, sizeof(int), 6, fp);
+}
+
+void PairCGMS::read_restart_settings(FILE *fp)
+{
+  int flags[6];
+  if (comm->me == 0) {
+    utils::sfread(FLERR, &cut_user, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, flags, sizeof(int), 6, fp, nullptr, error);
+  }
+  MPI_Bcast(&cut_user, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(flags, 6, MPI_INT, 0, world);
+  turgor = flags[0];
+  perimeter = flags[1];
+  periphery = flags[2];
+  damping = flags[3];
+  repulsion = flags[4];
+  attraction = flags[5];
+}
+
+/* ----------------------------------------------------------------------
+   the material is plain doubles: store it as bytes
+------------------------------------------------------------------------- */
+
+void PairCGMS::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  fwrite(&mat, sizeof(mat), 1, fp);
+}
+
+void PairCGMS::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  if (comm->me == 0) utils::sfread(FLERR, &mat, sizeof(mat), 1, fp, nullptr, error);
+  MPI_Bcast(&mat, sizeof(mat), MPI_BYTE, 0, world);
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void *PairCGMS::extract(const char *name, int &dim)
+{
+  dim = 0;
+  if (strcmp(name, "cut_global") == 0) return (void *) &cut_global;
+  return nullptr;
+}
