@@ -120,7 +120,7 @@ FixCGMSFluid::~FixCGMSFluid()
 
 int FixCGMSFluid::setmask()
 {
-  return PRE_FORCE | MIN_PRE_FORCE | END_OF_STEP;
+  return PRE_FORCE | MIN_PRE_FORCE;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -182,6 +182,7 @@ void FixCGMSFluid::setup_pre_force(int)
 
 void FixCGMSFluid::pre_force(int)
 {
+  if (transfer) transfer_mass();
   if (dryness_every > 0 && update->ntimestep % dryness_every == 0) apply_dryness();
   update_fluid_state(1);
 }
@@ -262,6 +263,9 @@ void FixCGMSFluid::initialise_beads()
 
 void FixCGMSFluid::update_fluid_state(int advance_density)
 {
+  // with turgor, perimeter and mass transfer all off nothing reads this state
+  if (!pair->pair_coefficient_needed() && !transfer) return;
+
   const Material &mat = pair->material();
   double **x = atom->x;
   double **cg = store(lmp).cgms;
@@ -269,7 +273,8 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
   const int nall = nlocal + atom->nghost;
   const int newton_pair = force->newton_pair;
   const double cut = pair->cutoff();
-  const double cutsq = cut * cut;
+  const double cutsq_fixed = cut * cut;
+  const int scaled = pair->cutoff_scaled();
 
   // pass 1: neighbour count and sum of centre distances, in NNEIGH and SIDE
 
@@ -284,6 +289,8 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
     const int i = ilist[ii];
     const double xtmp = x[i][0];
     const double ytmp = x[i][1];
+    const double si = cg[i][DRYNESS];
+    const double radi = scaled ? mat.lj_radius(si) : 0.0;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     double n = 0.0, sum = 0.0;
@@ -292,7 +299,9 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
       const double delx = xtmp - x[j][0];
       const double dely = ytmp - x[j][1];
       const double rsq = delx * delx + dely * dely;
-      if (rsq >= cutsq) continue;
+      if (rsq >= (scaled ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi))
+                         : cutsq_fixed))
+        continue;
       const double r = sqrt(rsq);
       n += 1.0;
       sum += r;
@@ -360,9 +369,9 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
 
   if (isolated >= 0)
     error->one(FLERR,
-               "Fix cgms/fluid: bead {} has no neighbour within the cutoff {:.6g} m (use "
+               "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use "
                "'isolated allow' to give isolated beads the reference cell)",
-               atom->tag[isolated], cut);
+               atom->tag[isolated]);
   if (nonfinite >= 0)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has a non-finite pressure at step {}: the simulation "
@@ -373,12 +382,15 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
 }
 
 /* ----------------------------------------------------------------------
-   mass transfer, explicit Euler with the rate of this step (MODEL.md 8)
+   mass transfer, explicit Euler: m_f(n+1) = m_f(n) + dt dm_f/dt(n).
+   It is applied at the start of step n+1 rather than at the end of step n:
+   the same update, but the state at the end of a step (and so in a restart
+   file) is the one its forces were computed from, so a restarted run
+   recomputes the same forces at setup.
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::end_of_step()
+void FixCGMSFluid::transfer_mass()
 {
-  if (!transfer) return;
   double **cg = store(lmp).cgms;
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;

@@ -11,8 +11,8 @@ namespace LAMMPS_NS {
 
 // The fluid phase of the CGMS model: each step the virtual-cell geometry
 // (eqns 10-11), density, turgor pressure (eqn 4), equilibrium perimeter
-// (eqn 9) and the per-bead pair coefficient used by pair_style cgms; after
-// the step, mass transfer through the virtual membrane (eqn 7).
+// (eqn 9), mass transfer through the virtual membrane (eqn 7) and the
+// per-bead pair coefficient used by pair_style cgms.
 class FixCGMSFluid : public Fix {
  public:
   FixCGMSFluid(class LAMMPS *, int, char **);
@@ -24,7 +24,6 @@ class FixCGMSFluid : public Fix {
   void setup_pre_force(int) override;
   void pre_force(int) override;
   void min_pre_force(int) override;
-  void end_of_step() override;
   double compute_vector(int) override;
   void grow_arrays(int) override;
 
@@ -56,6 +55,7 @@ class FixCGMSFluid : public Fix {
   void apply_dryness();
   void initialise_beads();
   void update_fluid_state(int advance_density);
+  void transfer_mass();
   void forward(int column);
   void refresh_vector();
 };

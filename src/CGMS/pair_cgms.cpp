@@ -22,9 +22,11 @@
 
 using namespace LAMMPS_NS;
 
-// default interaction cutoff in units of the lattice spacing x_ref: holds the
-// first hexagonal shell over the whole dryness range, never the second
-static constexpr double CUTOFF_XREF = 1.35;
+// default interaction cutoff in units of the pair's LJ radius r(s), the mean
+// centroid distance at that dryness: it holds the first hexagonal shell and never
+// the second at every dryness. (A fixed 1.35 x_ref lets the second shell in
+// below s of about 0.2, and the tissue then collapses.)
+static constexpr double CUTOFF_FACTOR = 1.35;
 
 enum { LJ_REPULSION = 1, LJ_ATTRACTION = 2 };
 
@@ -32,7 +34,7 @@ enum { LJ_REPULSION = 1, LJ_ATTRACTION = 2 };
 
 PairCGMS::PairCGMS(LAMMPS *lmp) :
     Pair(lmp), turgor(1), perimeter(1), periphery(1), damping(1), repulsion(1), attraction(1),
-    cut_user(0.0), cut_global(0.0)
+    cut_user(0.0), cut_factor(CUTOFF_FACTOR), cut_scaled(1), cut_global(0.0)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -76,6 +78,12 @@ void PairCGMS::settings(int narg, char **arg)
     if (key == "cutoff") {
       cut_user = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (cut_user <= 0.0) error->all(FLERR, "Pair style cgms cutoff must be > 0");
+      cut_scaled = 0;
+    } else if (key == "cutoff/lj") {
+      cut_factor = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (cut_factor <= 1.0)
+        error->all(FLERR, "Pair style cgms cutoff/lj must be > 1 (it multiplies the LJ radius)");
+      cut_scaled = 1;
     } else if (key == "turgor") {
       turgor = utils::logical(FLERR, arg[iarg + 1], false, lmp);
     } else if (key == "perimeter") {
@@ -90,8 +98,8 @@ void PairCGMS::settings(int narg, char **arg)
       attraction = utils::logical(FLERR, arg[iarg + 1], false, lmp);
     } else {
       error->all(FLERR,
-                 "Unknown pair style cgms keyword '{}' (known: cutoff turgor perimeter periphery "
-                 "damping repulsion attraction)",
+                 "Unknown pair style cgms keyword '{}' (known: cutoff cutoff/lj turgor perimeter "
+                 "periphery damping repulsion attraction)",
                  key);
     }
     iarg += 2;
@@ -138,12 +146,21 @@ void PairCGMS::init_style()
     error->all(FLERR,
                "Pair style cgms with damping requires 'comm_modify vel yes' (ghost velocities)");
 
-  cut_global = cut_user > 0.0 ? cut_user : CUTOFF_XREF * mat.x_ref;
+  // the LJ radius is largest for fresh beads (s = 1), r = r0
+  cut_global = cut_scaled ? cut_factor * mat.r0 : cut_user;
   if (cut_global <= mat.x_ref)
     error->all(FLERR,
                "Pair style cgms cutoff {:.6g} m is not above the lattice spacing x_ref = {:.6g} m: "
                "beads would see no neighbours",
                cut_global, mat.x_ref);
+
+  // LAMMPS's default skin in si units is 1 mm, several cells wide: every bead
+  // would carry most of a small tissue in its neighbour list
+  if (neighbor->skin > 0.5 * mat.x_ref && comm->me == 0)
+    error->warning(FLERR,
+                   "Neighbor skin {:.3g} m is large for CGMS beads {:.3g} m apart; "
+                   "'neighbor {:.2g} bin' is a good choice",
+                   neighbor->skin, mat.x_ref, 0.1 * mat.x_ref);
 
   neighbor->add_request(this);
 }
@@ -203,7 +220,8 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
 
-  const double cutsq_one = cut_global * cut_global;
+  const int scaled = cut_scaled;
+  const double cutsq_fixed = cut_global * cut_global;
   const double f0r = mat.f0_r;
   const double f0a = mat.f0_a;
   const double kd = mat.k_d;
@@ -221,8 +239,8 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     const double xtmp = x[i][0];
     const double ytmp = x[i][1];
     const double ci = PAIRCOEF ? cg[i][CGMS::COEF] : 0.0;
-    const double si = LJ ? cg[i][CGMS::DRYNESS] : 0.0;
-    const double radi = LJ ? mat.lj_radius(si) : 0.0;
+    const double si = cg[i][CGMS::DRYNESS];
+    const double radi = mat.lj_radius(si);
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     double fxtmp = 0.0, fytmp = 0.0;
@@ -232,14 +250,14 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       const double delx = xtmp - x[j][0];
       const double dely = ytmp - x[j][1];
       const double rsq = delx * delx + dely * dely;
-      if (rsq >= cutsq_one) continue;
+      double rad = 0.0;
+      if (LJ || scaled) rad = pair_radius(si, cg[j][CGMS::DRYNESS], radi);
+      if (rsq >= (scaled ? pair_cutsq(rad) : cutsq_fixed)) continue;
 
       double fpair = 0.0;
       double evdwl = 0.0;
       if (PAIRCOEF) fpair += (ci + cg[j][CGMS::COEF]) / sqrt(rsq);
       if (LJ) {
-        const double sj = cg[j][CGMS::DRYNESS];
-        const double rad = (sj == si) ? radi : mat.lj_radius(0.5 * (si + sj));
         const double q2 = rad * rad / rsq;
         const double q4 = q2 * q2;
         const double q8 = q4 * q4;
@@ -278,26 +296,30 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
 
 void PairCGMS::write_restart_settings(FILE *fp)
 {
-  int flags[6] = {turgor, perimeter, periphery, damping, repulsion, attraction};
+  int flags[7] = {turgor, perimeter, periphery, damping, repulsion, attraction, cut_scaled};
   fwrite(&cut_user, sizeof(double), 1, fp);
-  fwrite(flags, sizeof(int), 6, fp);
+  fwrite(&cut_factor, sizeof(double), 1, fp);
+  fwrite(flags, sizeof(int), 7, fp);
 }
 
 void PairCGMS::read_restart_settings(FILE *fp)
 {
-  int flags[6];
+  int flags[7];
   if (comm->me == 0) {
     utils::sfread(FLERR, &cut_user, sizeof(double), 1, fp, nullptr, error);
-    utils::sfread(FLERR, flags, sizeof(int), 6, fp, nullptr, error);
+    utils::sfread(FLERR, &cut_factor, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, flags, sizeof(int), 7, fp, nullptr, error);
   }
   MPI_Bcast(&cut_user, 1, MPI_DOUBLE, 0, world);
-  MPI_Bcast(flags, 6, MPI_INT, 0, world);
+  MPI_Bcast(&cut_factor, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(flags, 7, MPI_INT, 0, world);
   turgor = flags[0];
   perimeter = flags[1];
   periphery = flags[2];
   damping = flags[3];
   repulsion = flags[4];
   attraction = flags[5];
+  cut_scaled = flags[6];
 }
 
 /* ----------------------------------------------------------------------

@@ -32,6 +32,18 @@ class PairCGMS : public Pair {
   // read by fix cgms/fluid
   const CGMS::Material &material() const { return mat; }
   double cutoff() const { return cut_global; }
+  // LJ radius of a pair, r = r0 (1 + lj_slope ln s_ik); radi is the value for s_i,
+  // reused when the dryness is uniform (one log per bead instead of per pair)
+  double pair_radius(double si, double sj, double radi) const
+  {
+    return sj == si ? radi : mat.lj_radius(0.5 * (si + sj));
+  }
+  // squared interaction cutoff of a pair: fixed, or cut_factor times its LJ radius
+  double pair_cutsq(double rad) const
+  {
+    return cut_scaled ? cut_factor * cut_factor * rad * rad : cut_global * cut_global;
+  }
+  bool cutoff_scaled() const { return cut_scaled; }
   bool pair_coefficient_needed() const { return turgor || perimeter; }
 
   // effect switches (all on by default)
@@ -39,8 +51,10 @@ class PairCGMS : public Pair {
 
  protected:
   CGMS::Material mat;
-  double cut_user;      // cutoff given in pair_style, 0 = default 1.35 x_ref
-  double cut_global;    // cutoff in use
+  double cut_user;      // fixed cutoff given in pair_style (m), 0 = scaled cutoff
+  double cut_factor;    // scaled cutoff: cut_factor times the pair's LJ radius
+  int cut_scaled;       // 1: scaled cutoff, 0: fixed cutoff cut_user
+  double cut_global;    // largest cutoff, for the neighbour lists
 
   void allocate();
   template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void eval();

