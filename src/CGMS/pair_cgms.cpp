@@ -71,6 +71,10 @@ void PairCGMS::allocate()
 
 void PairCGMS::settings(int narg, char **arg)
 {
+  // checked here too so that the error comes before the material file is read
+  if (strcmp(update->unit_style, "si") != 0)
+    error->all(FLERR, "Pair style cgms requires units si (found units {})", update->unit_style);
+
   int iarg = 0;
   while (iarg < narg) {
     const std::string key = arg[iarg];

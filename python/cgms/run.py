@@ -1,0 +1,87 @@
+"""Run CGMS in LAMMPS through the ``lammps`` Python module."""
+
+import os
+from pathlib import Path
+
+STEADY_DEFAULTS = dict(residual=1e-3, speed=1e-3, every=1000, max_steps=300000)
+
+
+def plugin_path():
+    """The built plugin: $CGMS_PLUGIN, else build/cgmsplugin.so of this checkout."""
+    path = os.environ.get("CGMS_PLUGIN") or Path(__file__).resolve().parents[2] / "build" / "cgmsplugin.so"
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"CGMS plugin {path} not found: run './cgms setup' first")
+    return path
+
+
+def open_lammps(log="none", screen=False):
+    """A LAMMPS instance with the CGMS plugin loaded; raises with a clear message when the
+    plugin does not load (wrong LAMMPS, missing file)."""
+    from lammps import lammps
+
+    args = ["-log", str(log), "-nocite"] + ([] if screen else ["-screen", "none"])
+    lmp = lammps(cmdargs=args)
+    if not lmp.has_style("pair", "cgms"):
+        lmp.command(f"plugin load {plugin_path()}")
+    if not (lmp.has_style("pair", "cgms") and lmp.has_style("atom", "cgms")):
+        version = lmp.version()
+        lmp.close()
+        raise RuntimeError(f"the CGMS plugin {plugin_path()} did not load into LAMMPS {version}: "
+                           "rebuild it against this LAMMPS with './cgms setup'")
+    return lmp
+
+
+def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, steady=None,
+                  pair_args="", fix_args=""):
+    """LAMMPS commands that read a tissue and relax it to steady state at ``dryness``.
+
+    The run stops when the pressure residual and the largest bead speed are both below
+    the ``steady`` thresholds (checked every ``steady['every']`` steps) or after
+    ``steady['max_steps']`` steps."""
+    st = dict(STEADY_DEFAULTS, **(steady or {}))
+    lines = [
+        "units si",
+        "dimension 2",
+        "boundary f f p",
+        "atom_style cgms",
+        "atom_modify map array",
+        "comm_modify vel yes",
+        f"read_data {data}",
+        "neighbor 1.5e-5 bin",
+        "neigh_modify every 1 delay 0 check yes",
+        f"pair_style cgms {pair_args}",
+        f"pair_coeff * * {material}",
+        f"fix fluid all cgms/fluid dryness {dryness} {fix_args}",
+        "fix nve all nve",
+        "fix 2d all enforce2d",
+        f"timestep {dt}",
+        f"variable steady equal (f_fluid[1]<{st['residual']})&&(f_fluid[3]<{st['speed']})",
+        f"fix halt all halt {st['every']} v_steady > 0.5 error continue",
+        "compute cell all property/atom mf rho pressure nneigh side area perim dmdt",
+        "thermo_style custom step time f_fluid[1] f_fluid[2] f_fluid[3] f_fluid[4]",
+        "thermo_modify norm no",
+        f"thermo {st['every'] * 10}",
+    ]
+    if dump:
+        lines += [
+            f"dump tissue all custom {dump_every or st['every'] * 10} {dump} id type x y vx vy c_cell[*]",
+            "dump_modify tissue sort id colname c_cell[1] mf colname c_cell[2] rho "
+            "colname c_cell[3] pressure colname c_cell[4] nneigh colname c_cell[5] side "
+            "colname c_cell[6] area colname c_cell[7] perim colname c_cell[8] dmdt",
+        ]
+    lines += [f"run {st['max_steps']}"]
+    return "\n".join(lines) + "\n"
+
+
+def steady_state(lmp):
+    """Positions (sorted by id) and the fix outputs after a run of :func:`tissue_script`."""
+    import numpy as np
+
+    nlocal = lmp.extract_global("nlocal")
+    ids = np.array(lmp.numpy.extract_atom("id")[:nlocal])
+    order = np.argsort(ids)
+    xy = np.array(lmp.numpy.extract_atom("x")[:nlocal, :2])[order]
+    fix = [lmp.numpy.extract_fix("fluid", 0, 1, k) for k in range(4)]
+    return dict(xy=xy, residual=fix[0], moisture=fix[1], speed=fix[2], kinetic=fix[3],
+                steps=lmp.extract_global("ntimestep"))
