@@ -106,3 +106,14 @@ def test_hybrid_atom_style_refused(tmp_path):
     proc = run_lmp(tmp_path, text, check=False)
     assert proc.returncode != 0
     assert "requires atom_style cgms (found atom_style hybrid)" in proc.stdout
+
+
+def test_replicate_stops_cleanly(tmp_path):
+    """replicate builds a second Atom without plugin styles: LAMMPS must stop with an
+    ERROR, not crash."""
+    make_tissue(tmp_path, ncols=4, nrows=4)
+    text = f"plugin load {PLUGIN}\nunits si\ndimension 2\natom_style cgms\n" \
+           "read_data tissue.data\nreplicate 2 1 1\n"
+    proc = run_lmp(tmp_path, text, check=False)
+    assert proc.returncode == 1
+    assert "ERROR: Unrecognized atom style 'cgms'" in proc.stdout
