@@ -27,8 +27,7 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullp
   bool registered = false;
   for (const auto &item : atom->peratom)
     if (item.name == FIELD) registered = true;
-  if (!registered)
-    atom->add_peratom(FIELD, &CGMS::store(lmp).cgms, Atom::DOUBLE, CGMS::NCOLUMNS);
+  if (!registered) atom->add_peratom(FIELD, &CGMS::store(lmp).cgms, Atom::DOUBLE, CGMS::NCOLUMNS);
 
   // the whole array travels with a bead: its state columns must, and the
   // derived ones are small enough that splitting them would cost more code

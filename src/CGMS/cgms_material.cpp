@@ -127,8 +127,7 @@ void CGMS::Material::set(LAMMPS *lmp, const std::string &name, const std::string
     const auto &e = entries[k];
     if (name != e.name) continue;
     if (!utils::is_double(value))
-      lmp->error->all(FLERR, "{}: value '{}' of parameter {} is not a number", where, value,
-                      name);
+      lmp->error->all(FLERR, "{}: value '{}' of parameter {} is not a number", where, value, name);
     this->*e.member = std::stod(value);
     given |= 1UL << k;
     return;

@@ -16,12 +16,12 @@ namespace CGMS {
   // Material parameters of one plant tissue (MODEL.md section 7), SI units,
   // plus the reference-cell quantities derived from them (section 3).
   struct Material {
-    double k_T = 0.0;             // turgor coefficient (N/Pa)
-    double k_PA = 0.0;            // perimeter adjustment coefficient (N/m)
-    double k_d = 0.0;             // damping coefficient (N s/m)
-    double f0_a = 0.0;            // LJ attraction strength (N m)
-    double f0_r = 0.0;            // LJ repulsion strength (N m)
-    double beta_a = 0.0;          // beta(s) = beta_a + beta_b ln s
+    double k_T = 0.0;       // turgor coefficient (N/Pa)
+    double k_PA = 0.0;      // perimeter adjustment coefficient (N/m)
+    double k_d = 0.0;       // damping coefficient (N s/m)
+    double f0_a = 0.0;      // LJ attraction strength (N m)
+    double f0_r = 0.0;      // LJ repulsion strength (N m)
+    double beta_a = 0.0;    // beta(s) = beta_a + beta_b ln s
     double beta_b = 0.0;
     double lj_slope = 0.0;        // r = r0 (1 + lj_slope ln s_ik)
     double r0 = 0.0;              // fresh LJ radius (m); 0 selects x_ref
@@ -38,7 +38,7 @@ namespace CGMS {
     double L_p = 0.0;             // membrane conductivity (m/(Pa s))
     double solid_ratio = 0.0;     // m_s / m_f at any dryness (paper: 10 %)
 
-    unsigned long given = 0;      // bit k set: parameter k was given
+    unsigned long given = 0;    // bit k set: parameter k was given
 
     // derived by finish()
     double A_ref = 0.0, b_ref = 0.0, l_ref = 0.0, x_ref = 0.0;

@@ -4,6 +4,14 @@
 
 #include "cgms_store.h"
 
+#include "atom.h"
+#include "atom_vec_cgms.h"
+#include "domain.h"
+#include "error.h"
+#include "lammps.h"
+#include "update.h"
+
+#include <cstring>
 #include <map>
 
 using namespace LAMMPS_NS;
@@ -21,4 +29,16 @@ CGMS::Store &CGMS::store(LAMMPS *lmp)
 {
   static std::map<LAMMPS *, Store> stores;
   return stores[lmp];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void CGMS::require_cgms_system(LAMMPS *lmp, const char *who)
+{
+  if (strcmp(lmp->update->unit_style, "si") != 0)
+    lmp->error->all(FLERR, "{} requires units si (found units {})", who, lmp->update->unit_style);
+  if (lmp->domain->dimension != 2) lmp->error->all(FLERR, "{} requires dimension 2", who);
+  if (!dynamic_cast<AtomVecCGMS *>(lmp->atom->avec))
+    lmp->error->all(FLERR, "{} requires atom_style cgms (found atom_style {})", who,
+                    lmp->atom->atom_style);
 }

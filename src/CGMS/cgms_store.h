@@ -44,6 +44,10 @@ namespace CGMS {
   };
   Store &store(LAMMPS *lmp);
 
+  // stop with an ERROR unless the system is what CGMS styles need:
+  // units si, dimension 2, atom_style cgms
+  void require_cgms_system(LAMMPS *lmp, const char *who);
+
 }    // namespace CGMS
 }    // namespace LAMMPS_NS
 

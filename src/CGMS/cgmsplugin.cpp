@@ -45,7 +45,8 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
 
   plugin.style = "pair";
   plugin.name = "cgms";
-  plugin.info = "CGMS pair style: turgor, perimeter, damping and LJ forces between plant-cell beads";
+  plugin.info =
+      "CGMS pair style: turgor, perimeter, damping and LJ forces between plant-cell beads";
   plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_cgms_creator;
   (*register_plugin)(&plugin, lmp);
 

@@ -127,12 +127,7 @@ int FixCGMSFluid::setmask()
 
 void FixCGMSFluid::init()
 {
-  if (strcmp(update->unit_style, "si") != 0)
-    error->all(FLERR, "Fix cgms/fluid requires units si (found units {})", update->unit_style);
-  if (domain->dimension != 2) error->all(FLERR, "Fix cgms/fluid requires dimension 2");
-  if (!dynamic_cast<AtomVecCGMS *>(atom->avec))
-    error->all(FLERR, "Fix cgms/fluid requires atom_style cgms (found atom_style {})",
-               atom->atom_style);
+  require_cgms_system(lmp, "Fix cgms/fluid");
   if (modify->get_fix_by_style("^cgms/fluid$").size() > 1)
     error->all(FLERR, "Only one fix cgms/fluid may be defined");
   pair = dynamic_cast<PairCGMS *>(force->pair);
@@ -299,8 +294,8 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
       const double delx = xtmp - x[j][0];
       const double dely = ytmp - x[j][1];
       const double rsq = delx * delx + dely * dely;
-      if (rsq >= (scaled ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi))
-                         : cutsq_fixed))
+      if (rsq >=
+          (scaled ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi)) : cutsq_fixed))
         continue;
       const double r = sqrt(rsq);
       n += 1.0;
@@ -342,8 +337,7 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
     double rho;
     if (density_rate && advance_density && c[AREA] > 0.0) {
       const double area_old = c[AREA];
-      rho = c[RHO] - c[RHO] * (area - area_old) / area_old +
-          dt * c[DMDT] / (mat.height * area_old);
+      rho = c[RHO] - c[RHO] * (area - area_old) / area_old + dt * c[DMDT] / (mat.height * area_old);
     } else if (density_rate && !advance_density && c[AREA] > 0.0) {
       rho = c[RHO];
     } else {

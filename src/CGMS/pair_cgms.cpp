@@ -124,8 +124,7 @@ void PairCGMS::coeff(int narg, char **arg)
 
   mat = CGMS::Material();
   mat.read_file(lmp, arg[2]);
-  for (int iarg = 3; iarg < narg; iarg += 2)
-    mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
+  for (int iarg = 3; iarg < narg; iarg += 2) mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
   mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
 
   for (int i = 1; i <= atom->ntypes; i++)
@@ -136,12 +135,7 @@ void PairCGMS::coeff(int narg, char **arg)
 
 void PairCGMS::init_style()
 {
-  if (strcmp(update->unit_style, "si") != 0)
-    error->all(FLERR, "Pair style cgms requires units si (found units {})", update->unit_style);
-  if (domain->dimension != 2) error->all(FLERR, "Pair style cgms requires dimension 2");
-  if (!dynamic_cast<AtomVecCGMS *>(atom->avec))
-    error->all(FLERR, "Pair style cgms requires atom_style cgms (found atom_style {})",
-               atom->atom_style);
+  CGMS::require_cgms_system(lmp, "Pair style cgms");
   if (modify->get_fix_by_style("^cgms/fluid$").empty())
     error->all(FLERR,
                "Pair style cgms requires fix cgms/fluid: it computes the virtual-cell geometry, "
@@ -230,8 +224,8 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const double f0a = mat.f0_a;
   const double kd = mat.k_d;
   // energy offsets that make U continuous at x = r and zero at x = r from below
-  const double e_in = (LJ & LJ_REPULSION ? 0.125 * f0r : 0.0) -
-      (LJ & LJ_ATTRACTION ? 0.125 * f0a : 0.0);
+  const double e_in =
+      (LJ & LJ_REPULSION ? 0.125 * f0r : 0.0) - (LJ & LJ_ATTRACTION ? 0.125 * f0a : 0.0);
 
   const int inum = list->inum;
   const int *ilist = list->ilist;
@@ -267,7 +261,8 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
         const double q8 = q4 * q4;
         if (q2 >= 1.0) {
           if (LJ & LJ_REPULSION) fpair += f0r * (q8 - q4) / rsq;
-          if (EVFLAG && eflag_either) evdwl = (LJ & LJ_REPULSION ? f0r * (0.125 * q8 - 0.25 * q4) : 0.0) + e_in;
+          if (EVFLAG && eflag_either)
+            evdwl = (LJ & LJ_REPULSION ? f0r * (0.125 * q8 - 0.25 * q4) : 0.0) + e_in;
         } else if (LJ & LJ_ATTRACTION) {
           fpair += f0a * (q8 - q4) / rsq;
           if (EVFLAG && eflag_either) evdwl = f0a * (0.125 * q8 - 0.25 * q4);
