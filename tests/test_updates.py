@@ -61,3 +61,22 @@ def test_rate_and_exact_density_stay_close(tmp_path):
     rate = two_states(tmp_path, "density rate")[1]
     drift = np.max(np.abs(rate["rho"] - exact["rho"]) / exact["rho"])
     assert 0 < drift < 1e-3, drift
+
+
+def test_restart_keeps_dryness_when_fix_omits_it(tmp_path):
+    from cgmstest import APPLE, PLUGIN
+    make_tissue(tmp_path, s=0.4)
+    lmp = new_lammps()
+    try:
+        with working_directory(tmp_path):
+            lmp.commands_string(header() + physics() + "run 500\nwrite_restart r.restart\n")
+            before = lmp.numpy.extract_fix("fl", 0, 1, 0)
+            lmp.commands_string(f"clear\nplugin load {PLUGIN}\nread_restart r.restart\n"
+                                "comm_modify vel yes\nneighbor 1.5e-5 bin\n"
+                                "fix fl all cgms/fluid\nfix nve all nve\nrun 0\n")
+            nlocal = lmp.extract_global("nlocal")
+            cg = np.array(lmp.numpy.extract_fix("fl", LMP_STYLE_ATOM, LMP_TYPE_ARRAY))[:nlocal]
+            assert np.all(cg[:, COLUMNS.index("dryness")] == 0.4)
+            assert lmp.numpy.extract_fix("fl", 0, 1, 0) == pytest.approx(before, rel=1e-12)
+    finally:
+        lmp.close()

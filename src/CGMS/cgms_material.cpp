@@ -38,7 +38,8 @@ const Entry entries[] = {
     {"f0_r", &CGMS::Material::f0_r, POSITIVE, true},
     {"beta_a", &CGMS::Material::beta_a, ANY, true},
     {"beta_b", &CGMS::Material::beta_b, ANY, true},
-    {"lj_slope", &CGMS::Material::lj_slope, ANY, true},
+    // lj_slope >= 0 keeps r(s) <= r0, which the neighbour-list cutoff relies on
+    {"lj_slope", &CGMS::Material::lj_slope, NONNEGATIVE, true},
     {"r0", &CGMS::Material::r0, NONNEGATIVE, false},
     {"diameter", &CGMS::Material::diameter, POSITIVE, true},
     {"height", &CGMS::Material::height, POSITIVE, true},

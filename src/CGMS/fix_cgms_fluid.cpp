@@ -36,8 +36,9 @@ static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
 
 FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
-    dryness_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
-    allow_isolated(0), comm_column(COEF), dryness_work(nullptr), nmax_work(0), vector_step(-1)
+    dryness_ivar(-1), dryness_given(0), dryness_every(0), density_rate(0), inertia_fluid(0),
+    transfer(1), allow_isolated(0), comm_column(COEF), dryness_work(nullptr), nmax_work(0),
+    vector_step(-1)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -47,6 +48,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     if (iarg + 1 >= narg) error->all(FLERR, "Fix cgms/fluid keyword {} needs a value", key);
     const char *val = arg[iarg + 1];
     if (key == "dryness") {
+      dryness_given = 1;
       if (utils::strmatch(val, "^v_")) {
         delete[] dryness_var;
         dryness_var = utils::strdup(val + 2);
@@ -170,6 +172,7 @@ void FixCGMSFluid::grow_arrays(int)
 void FixCGMSFluid::setup_pre_force(int)
 {
   array_atom = store(lmp).cgms;
+  vector_step = -1;    // the state may have changed between runs at the same step
   apply_dryness();
   initialise_beads();
   update_fluid_state(0);
@@ -196,7 +199,11 @@ void FixCGMSFluid::apply_dryness()
   double **cg = store(lmp).cgms;
   const int nlocal = atom->nlocal;
 
-  if (!dryness_var) {
+  if (!dryness_given) {
+    // keep what the beads carry (e.g. from a restart file); new beads are fresh
+    for (int i = 0; i < nlocal; i++)
+      if (cg[i][MF0] <= 0.0) cg[i][DRYNESS] = 1.0;
+  } else if (!dryness_var) {
     for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = dryness_value;
   } else if (input->variable->equalstyle(dryness_ivar)) {
     const double s = input->variable->compute_equal(dryness_ivar);

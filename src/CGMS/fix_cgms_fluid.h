@@ -39,6 +39,7 @@ class FixCGMSFluid : public Fix {
   double dryness_value;    // constant dryness, or
   char *dryness_var;       // name of an equal- or atom-style variable
   int dryness_ivar;
+  int dryness_given;     // 0: keep each bead's stored dryness (new beads: 1)
   int dryness_every;     // re-evaluate the variable every this many steps (0: at setup)
   int density_rate;      // 1: literal rate form of eqns (5)-(6); 0: rho = m_f / (h A)
   int inertia_fluid;     // 1: rmass = m_f + m_s (paper); 0: fresh mass (stable default)

@@ -118,8 +118,7 @@ void PairCGMS::coeff(int narg, char **arg)
 {
   if (narg < 3 || (narg - 3) % 2 != 0)
     error->all(FLERR, "Pair coeff for cgms: expected '* * material-file [name value ...]'");
-  if (strcmp(arg[0], "*") != 0 || strcmp(arg[1], "*") != 0)
-    error->all(FLERR, "Pair coeff for cgms must be '* *': one material for all bead types");
+  // LAMMPS itself insists on "* *" for a style with one_coeff set
   if (!allocated) allocate();
 
   mat = CGMS::Material();
@@ -223,7 +222,8 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const double f0r = mat.f0_r;
   const double f0a = mat.f0_a;
   const double kd = mat.k_d;
-  // energy offsets that make U continuous at x = r and zero at x = r from below
+  // constant added inside x <= r so that U is continuous at x = r
+  // (U there is -f0_a/8 with attraction on, 0 without; U is not shifted at the cutoff)
   const double e_in =
       (LJ & LJ_REPULSION ? 0.125 * f0r : 0.0) - (LJ & LJ_ATTRACTION ? 0.125 * f0a : 0.0);
 
