@@ -287,12 +287,18 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
+  double s_last = -1.0, rad_last = 0.0;
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     const double xtmp = x[i][0];
     const double ytmp = x[i][1];
     const double si = cg[i][DRYNESS];
-    const double radi = scaled ? mat.lj_radius(si) : 0.0;
+    // dryness is mostly uniform: one log per change of s, not per bead
+    if (scaled && si != s_last) {
+      s_last = si;
+      rad_last = mat.lj_radius(si);
+    }
+    const double radi = rad_last;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     double n = 0.0, sum = 0.0;
@@ -324,6 +330,7 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
   const double kPA = pair->perimeter ? mat.k_PA : 0.0;
   const double b_ref = mat.b_ref;
   int isolated = -1, nonfinite = -1;
+  double s_beta = -1.0, beta_last = 1.0;
 
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
@@ -332,7 +339,11 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
     double b;
     if (nn > 0.0) {
       const double b_int = (c[SIDE] - nn * mat.pectin) / (SQRT3 * nn);
-      const double beta = pair->periphery ? mat.beta(s) : 1.0;
+      if (s != s_beta) {
+        s_beta = s;
+        beta_last = pair->periphery ? mat.beta(s) : 1.0;
+      }
+      const double beta = beta_last;
       b = b_int / 6.0 * (nn + beta * MAX(0.0, 6.0 - nn));
     } else {
       if (!allow_isolated && isolated < 0) isolated = i;

@@ -231,6 +231,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
+  double s_last = -1.0, rad_last = 0.0;
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -238,7 +239,12 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     const double ytmp = x[i][1];
     const double ci = PAIRCOEF ? cg[i][CGMS::COEF] : 0.0;
     const double si = cg[i][CGMS::DRYNESS];
-    const double radi = mat.lj_radius(si);
+    // dryness is mostly uniform: one log per change of s, not per bead
+    if (si != s_last) {
+      s_last = si;
+      rad_last = mat.lj_radius(si);
+    }
+    const double radi = rad_last;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     double fxtmp = 0.0, fytmp = 0.0;
