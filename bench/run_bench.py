@@ -36,7 +36,6 @@ import argparse
 import csv
 import hashlib
 import json
-import math
 import os
 import re
 import shutil
@@ -363,6 +362,8 @@ def callgrind(args, mat, common, out, meta):
     for case, data, inp in (("A", data_a, "in.cgms"), ("B", data_b, "in.ljcut")):
         cgout = out / f"callgrind.{case}.out"
         var = dict(common, data=str(data), steps=str(args.cg_steps))
+        if args.cg_plugin:
+            var["plugin"] = str(Path(args.cg_plugin).resolve())
         # collect only inside Verlet::run, the timed MD loop: no start-up, no set-up
         cmd = ["valgrind", "--tool=callgrind", "--toggle-collect=*Verlet::run*",
                f"--callgrind-out-file={cgout}"]
@@ -493,6 +494,9 @@ def main():
     ap.add_argument("--callgrind", action="store_true", help="also run the callgrind profiles")
     ap.add_argument("--cg-size", type=parse_size, default=(33, 30))
     ap.add_argument("--cg-steps", type=int, default=2000)
+    ap.add_argument("--cg-plugin", default=None,
+                    help="plugin for the callgrind runs only, e.g. a build with -g for "
+                    "line-level annotation (default: the same snapshot as the timing)")
     ap.add_argument("--cg-top", type=int, default=12, help="functions in the top-self lists")
     args = ap.parse_args()
 
