@@ -11,10 +11,13 @@
 #include "atom.h"
 #include "atom_vec_cgms.h"
 #include "comm.h"
+#include "error.h"
 #include "fix_cgms_fluid.h"
 #include "lammps.h"
 #include "pair_cgms.h"
 #include "version.h"
+
+#include <cstring>
 
 using namespace LAMMPS_NS;
 
@@ -38,6 +41,15 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
   auto lmp = static_cast<LAMMPS *>(lmp_ptr);
   auto register_plugin = (lammpsplugin_regfunc) regfunc;
   lammpsplugin_t plugin;
+
+  // the atom style reaches into LAMMPS's classes: another version may lay them out
+  // differently, so refuse rather than crash later
+  if (strcmp(lmp->version, LAMMPS_VERSION) != 0)
+    lmp->error->all(FLERR,
+                    "The CGMS plugin was built for LAMMPS {} but was loaded into LAMMPS {}: "
+                    "rebuild it against this LAMMPS ('./cgms setup' with LAMMPS_SOURCE_DIR and "
+                    "LAMMPS_BUILD_DIR, see README.md)",
+                    LAMMPS_VERSION, lmp->version);
 
   plugin.version = LAMMPS_VERSION;
   plugin.author = "CGMS developers";
