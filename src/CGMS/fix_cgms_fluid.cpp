@@ -37,8 +37,8 @@ static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
 FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
     dryness_ivar(-1), dryness_given(0), dryness_every(0), density_rate(0), inertia_fluid(0),
-    transfer(1), allow_isolated(0), comm_column(COEF), dryness_work(nullptr), nmax_work(0),
-    vector_step(-1)
+    transfer(1), transfer_implicit(1), allow_isolated(0), comm_column(COEF), dryness_work(nullptr),
+    nmax_work(0), vector_step(-1)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -77,6 +77,15 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR, "Fix cgms/fluid inertia must be 'fresh' or 'fluid', not '{}'", val);
     } else if (key == "transfer") {
       transfer = utils::logical(FLERR, val, false, lmp);
+    } else if (key == "transfer/scheme") {
+      if (strcmp(val, "implicit") == 0)
+        transfer_implicit = 1;
+      else if (strcmp(val, "explicit") == 0)
+        transfer_implicit = 0;
+      else
+        error->all(FLERR,
+                   "Fix cgms/fluid transfer/scheme must be 'implicit' or 'explicit', not '{}'",
+                   val);
     } else if (key == "isolated") {
       if (strcmp(val, "error") == 0)
         allow_isolated = 0;
@@ -87,7 +96,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     } else {
       error->all(FLERR,
                  "Unknown fix cgms/fluid keyword '{}' (known: dryness every density inertia "
-                 "transfer isolated)",
+                 "transfer transfer/scheme isolated)",
                  key);
     }
     iarg += 2;
@@ -176,6 +185,39 @@ void FixCGMSFluid::setup_pre_force(int)
   apply_dryness();
   initialise_beads();
   update_fluid_state(0);
+  check_time_step();
+}
+
+/* ----------------------------------------------------------------------
+   the relative-velocity damping is explicit: stable while
+   k_d lambda_max dt / m < 2, lambda_max the largest eigenvalue of the bead
+   graph's Laplacian. It is 9 for the hexagonal lattice (N = 6), and the
+   check uses 1.5 N_i per bead, which is that value and grows with denser
+   neighbourhoods. (MODEL.md 8: s = 0.3 with the paper's inertia explodes at
+   dt = 5e-8 s and runs at 3e-8 s; this gives 3.9e-8 s at the start.)
+   Checked at setup and, since masses and neighbour counts change, every step.
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_time_step()
+{
+  if (!pair->damping) return;
+  double **cg = store(lmp).cgms;
+  const double *rmass = atom->rmass;
+  const double dt = update->dt;
+  const double kd = 1.5 * pair->material().k_d;
+  // the bead with the smallest m / N sets the limit; report that one
+  int worst = -1;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (kd * dt * cg[i][NNEIGH] > 2.0 * rmass[i] &&
+        (worst < 0 || rmass[i] * cg[worst][NNEIGH] < rmass[worst] * cg[i][NNEIGH]))
+      worst = i;
+  if (worst < 0) return;
+  error->one(FLERR,
+             "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
+             "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
+             "use a smaller timestep{}",
+             dt, update->ntimestep, 2.0 * rmass[worst] / (kd * cg[worst][NNEIGH]), atom->tag[worst],
+             rmass[worst], cg[worst][NNEIGH], inertia_fluid ? " or 'inertia fresh'" : "");
 }
 
 void FixCGMSFluid::pre_force(int)
@@ -183,6 +225,7 @@ void FixCGMSFluid::pre_force(int)
   if (transfer) transfer_mass();
   if (dryness_every > 0 && update->ntimestep % dryness_every == 0) apply_dryness();
   update_fluid_state(1);
+  check_time_step();
 }
 
 void FixCGMSFluid::min_pre_force(int)
@@ -394,23 +437,38 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
 }
 
 /* ----------------------------------------------------------------------
-   mass transfer, explicit Euler: m_f(n+1) = m_f(n) + dt dm_f/dt(n).
-   It is applied at the start of step n+1 rather than at the end of step n:
-   the same update, but the state at the end of a step (and so in a restart
-   file) is the one its forces were computed from, so a restarted run
-   recomputes the same forces at setup.
+   mass transfer m_f(n+1) = m_f(n) + dt g(n) / (1 + dt lambda(n)), g = dm_f/dt
+   of eqn (7). implicit (default): lambda = -dg/dm_f at fixed geometry,
+   linearised backward Euler, when that is positive; eqns (4) and (7) give
+     lambda = l L_p / A K (8 (rho/rho_ref)^7 - 1).
+   The explicit update (lambda = 0, the paper's scheme) is unstable when
+   dt lambda > 2, which a bead compressed by a third reaches at dt = 1e-7 s
+   (lambda grows as (rho/rho_ref)^7). Both have the same fixed point g = 0.
+   The update is applied at the start of step n+1 rather than at the end of
+   step n: the state at the end of a step (and so in a restart file) is the
+   one its forces were computed from, so a restarted run recomputes the same
+   forces at setup. DMDT is left holding the rate actually applied, which
+   the rate form of the density uses next.
 ------------------------------------------------------------------------- */
 
 void FixCGMSFluid::transfer_mass()
 {
+  const Material &mat = pair->material();
   double **cg = store(lmp).cgms;
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
   const double dt = update->dt;
+  const double stiffness = mat.L_p * mat.K;
   int bad = -1;
 
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
+    if (transfer_implicit && c[AREA] > 0.0) {
+      const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
+      const double q2 = q * q;
+      const double lambda = stiffness * c[PERIM] / c[AREA] * (8.0 * q2 * q2 * q2 * q - 1.0);
+      if (lambda > 0.0) c[DMDT] /= 1.0 + dt * lambda;
+    }
     c[MF] += dt * c[DMDT];
     if (!(c[MF] > 0.0) && bad < 0) bad = i;
     if (inertia_fluid) rmass[i] = c[MF] + c[MS];

@@ -39,12 +39,13 @@ class FixCGMSFluid : public Fix {
   double dryness_value;    // constant dryness, or
   char *dryness_var;       // name of an equal- or atom-style variable
   int dryness_ivar;
-  int dryness_given;     // 0: keep each bead's stored dryness (new beads: 1)
-  int dryness_every;     // re-evaluate the variable every this many steps (0: at setup)
-  int density_rate;      // 1: literal rate form of eqns (5)-(6); 0: rho = m_f / (h A)
-  int inertia_fluid;     // 1: rmass = m_f + m_s (paper); 0: fresh mass (stable default)
-  int transfer;          // mass transfer on/off
-  int allow_isolated;    // a bead without neighbours: error (0) or reference cell (1)
+  int dryness_given;        // 0: keep each bead's stored dryness (new beads: 1)
+  int dryness_every;        // re-evaluate the variable every this many steps (0: at setup)
+  int density_rate;         // 1: literal rate form of eqns (5)-(6); 0: rho = m_f / (h A)
+  int inertia_fluid;        // 1: rmass = m_f + m_s (paper); 0: fresh mass (stable default)
+  int transfer;             // mass transfer on/off
+  int transfer_implicit;    // 1: linearised backward Euler; 0: explicit Euler (paper)
+  int allow_isolated;       // a bead without neighbours: error (0) or reference cell (1)
 
   int comm_column;         // column sent by forward communication
   double *dryness_work;    // per-atom values of an atom-style dryness variable
@@ -57,6 +58,7 @@ class FixCGMSFluid : public Fix {
   void initialise_beads();
   void update_fluid_state(int advance_density);
   void transfer_mass();
+  void check_time_step();
   void forward(int column);
   void refresh_vector();
 };
