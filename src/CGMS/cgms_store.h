@@ -12,23 +12,25 @@ class LAMMPS;
 namespace CGMS {
 
   // Columns of the per-bead array "cgms" carried by atom_style cgms.
-  // The first block is state that must survive migration and restarts;
-  // the second is recomputed every step by fix cgms/fluid and kept for output.
+  // The first four are read for every neighbour pair in the pair and fix
+  // loops and sit together so that a neighbour costs one cache line; then the
+  // state that must survive migration and restarts; then values recomputed
+  // every step by fix cgms/fluid and kept for output.
   enum Column {
-    MF = 0,     // fluid-phase mass m_f (kg)
-    MS,         // solid-phase mass m_s (kg)
-    DRYNESS,    // prescribed dryness s = (X/X0)_i
-    MF0,        // fresh fluid mass m_f0 (kg); <= 0 marks a bead not yet initialised
-    L0P,        // turgid perimeter l0' (m)
-    RHO,        // fluid density (kg/m^3); state in the rate form of eqns (5)-(6)
-    PRESS,      // turgor pressure P (Pa)
-    NNEIGH,     // neighbour count N
-    SIDE,       // virtual-cell side b_avg (m)
-    AREA,       // virtual-cell area A (m^2)
-    PERIM,      // virtual-cell perimeter l (m)
-    LDEQ,       // equilibrium perimeter l_d (m), eqn (9)
-    DMDT,       // fluid mass rate dm_f/dt (kg/s), eqn (7)
-    COEF,       // pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2 (N)
+    COEF = 0,    // pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2 (N)
+    DRYNESS,     // prescribed dryness s = (X/X0)_i
+    NNEIGH,      // neighbour count N
+    SIDE,        // virtual-cell side b_avg (m)
+    MF,          // fluid-phase mass m_f (kg)
+    MS,          // solid-phase mass m_s (kg)
+    MF0,         // fresh fluid mass m_f0 (kg); <= 0 marks a bead not yet initialised
+    L0P,         // turgid perimeter l0' (m)
+    RHO,         // fluid density (kg/m^3); state in the rate form of eqns (5)-(6)
+    PRESS,       // turgor pressure P (Pa)
+    AREA,        // virtual-cell area A (m^2)
+    PERIM,       // virtual-cell perimeter l (m)
+    LDEQ,        // equilibrium perimeter l_d (m), eqn (9)
+    DMDT,        // fluid mass rate dm_f/dt (kg/s), eqn (7)
     NCOLUMNS
   };
 

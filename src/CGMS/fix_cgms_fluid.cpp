@@ -268,6 +268,15 @@ void FixCGMSFluid::apply_dryness()
     error->one(FLERR, "Fix cgms/fluid: dryness {} of bead {} is out of range: it must be in (0, 1]",
                cg[bad][DRYNESS], atom->tag[bad]);
 
+  double range[2] = {-2.0, 0.0};    // -min, max
+  for (int i = 0; i < nlocal; i++) {
+    range[0] = MAX(range[0], -cg[i][DRYNESS]);
+    range[1] = MAX(range[1], cg[i][DRYNESS]);
+  }
+  double all[2];
+  MPI_Allreduce(range, all, 2, MPI_DOUBLE, MPI_MAX, world);
+  pair->set_uniform_dryness(-all[0] == all[1] ? all[1] : -1.0);
+
   forward(DRYNESS);
 }
 
@@ -320,6 +329,11 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
   const double cut = pair->cutoff();
   const double cutsq_fixed = cut * cut;
   const int scaled = pair->cutoff_scaled();
+  const double s_uniform = pair->get_uniform_dryness();
+  const int uniform = s_uniform > 0.0;
+  const double cutsq_uniform = scaled && uniform ? pair->pair_cutsq(mat.lj_radius(s_uniform))
+                                                 : cutsq_fixed;
+  const int per_pair_cutoff = scaled && !uniform;
 
   // pass 1: neighbour count and sum of centre distances, in NNEIGH and SIDE
 
@@ -337,7 +351,7 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
     const double ytmp = x[i][1];
     const double si = cg[i][DRYNESS];
     // dryness is mostly uniform: one log per change of s, not per bead
-    if (scaled && si != s_last) {
+    if (per_pair_cutoff && si != s_last) {
       s_last = si;
       rad_last = mat.lj_radius(si);
     }
@@ -350,8 +364,8 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
       const double delx = xtmp - x[j][0];
       const double dely = ytmp - x[j][1];
       const double rsq = delx * delx + dely * dely;
-      if (rsq >=
-          (scaled ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi)) : cutsq_fixed))
+      if (rsq >= (per_pair_cutoff ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi))
+                                  : cutsq_uniform))
         continue;
       const double r = sqrt(rsq);
       n += 1.0;

@@ -34,7 +34,7 @@ enum { LJ_REPULSION = 1, LJ_ATTRACTION = 2 };
 
 PairCGMS::PairCGMS(LAMMPS *lmp) :
     Pair(lmp), turgor(1), perimeter(1), periphery(1), damping(1), repulsion(1), attraction(1),
-    cut_user(0.0), cut_factor(CUTOFF_FACTOR), cut_scaled(1), cut_global(0.0)
+    cut_user(0.0), cut_factor(CUTOFF_FACTOR), cut_scaled(1), cut_global(0.0), uniform_dryness(-1.0)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -219,6 +219,9 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
 
   const int scaled = cut_scaled;
   const double cutsq_fixed = cut_global * cut_global;
+  const int uniform = uniform_dryness > 0.0;
+  const double rad_uniform = uniform ? mat.lj_radius(uniform_dryness) : 0.0;
+  const double cutsq_uniform = scaled ? pair_cutsq(rad_uniform) : cutsq_fixed;
   const double f0r = mat.f0_r;
   const double f0a = mat.f0_a;
   const double kd = mat.k_d;
@@ -255,8 +258,15 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       const double dely = ytmp - x[j][1];
       const double rsq = delx * delx + dely * dely;
       double rad = 0.0;
-      if (LJ || scaled) rad = pair_radius(si, cg[j][CGMS::DRYNESS], radi);
-      if (rsq >= (scaled ? pair_cutsq(rad) : cutsq_fixed)) continue;
+      double cutsq;
+      if (uniform) {
+        rad = rad_uniform;
+        cutsq = cutsq_uniform;
+      } else {
+        if (LJ || scaled) rad = pair_radius(si, cg[j][CGMS::DRYNESS], radi);
+        cutsq = scaled ? pair_cutsq(rad) : cutsq_fixed;
+      }
+      if (rsq >= cutsq) continue;
 
       double fpair = 0.0;
       double evdwl = 0.0;

@@ -44,6 +44,11 @@ class PairCGMS : public Pair {
     return cut_scaled ? cut_factor * cut_factor * rad * rad : cut_global * cut_global;
   }
   bool cutoff_scaled() const { return cut_scaled; }
+  // fix cgms/fluid tells the pair when every bead has the same dryness (value
+  // > 0) or not (-1): the loops then use one LJ radius and cutoff for all pairs
+  // and never read a neighbour's dryness
+  void set_uniform_dryness(double s) { uniform_dryness = s; }
+  double get_uniform_dryness() const { return uniform_dryness; }
   bool pair_coefficient_needed() const { return turgor || perimeter; }
 
   // effect switches (all on by default)
@@ -55,6 +60,7 @@ class PairCGMS : public Pair {
   double cut_factor;    // scaled cutoff: cut_factor times the pair's LJ radius
   int cut_scaled;       // 1: scaled cutoff, 0: fixed cutoff cut_user
   double cut_global;    // largest cutoff, for the neighbour lists
+  double uniform_dryness;
 
   void allocate();
   template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void eval();
