@@ -28,10 +28,15 @@ def pair_geometry(xy, s, mat, cutoff):
 
 
 def fluid_state(xy, s, mf, l0p, mat, cutoff, periphery=True, turgor=True, perimeter=True,
-                transfer=True):
+                transfer=True, implicit_dt=None):
     """Per-bead geometry (eqns 10, 11), density, pressure (eqn 4, reference state of
     MODEL.md 3), equilibrium perimeter (eqn 9), dm/dt (eqn 7) and the scalar c_i with
-    F_T + F_PA = (c_i + c_k) n."""
+    F_T + F_PA = (c_i + c_k) n.
+
+    With ``implicit_dt`` the rate is the one a linearised backward Euler step of length
+    implicit_dt applies: eqn (7) divided by 1 + dt lambda, lambda = -d(dm/dt)/dm at fixed
+    geometry (derived here by differentiating eqns (4) and (7) in m through rho = m/(hA)),
+    where lambda > 0."""
     _, dist, adj = pair_geometry(xy, s, mat, cutoff)
     n = adj.sum(axis=1).astype(float)
     b_int = (np.where(adj, dist - mat["pectin"], 0.0)).sum(axis=1) / (SQRT3 * n)
@@ -43,6 +48,12 @@ def fluid_state(xy, s, mf, l0p, mat, cutoff, periphery=True, turgor=True, perime
     press = s * mat["P_f"] + mat["K"] * ((rho / (s * mat["rho0"])) ** 7 - 1.0)
     ldeq = l0p * (1.0 - mat["perim_a"] / mat["perim_b"] * (1.0 - s))
     dmdt = -perim * mat["height"] * mat["L_p"] * rho * (press + s * mat["Pi_f"])
+    if implicit_dt is not None:
+        # d/dm of -l h L_p rho (P + Pi) with d rho/dm = rho/m, dP/drho = 7 K q^6 / rho_ref
+        q = rho / (s * mat["rho0"])
+        drate_dm = -perim * mat["height"] * mat["L_p"] * (rho / mf) * (
+            press + s * mat["Pi_f"] + 7 * mat["K"] * q**7)
+        dmdt = dmdt / (1 + implicit_dt * np.maximum(-drate_dm, 0.0))
     if not transfer:
         dmdt = np.zeros_like(dmdt)
     c = 0.5 * (turgor * mat["k_T"] * (press - mat["P_f"]) - perimeter * mat["k_PA"] * (perim - ldeq))

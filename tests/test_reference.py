@@ -45,13 +45,13 @@ def snapshot(folder, steps, pair_args="", fix_args=""):
         lmp.close()
 
 
-def expected(state, switches=()):
+def expected(state, switches=(), implicit_dt=1e-7):
     """Reference values computed from the plugin's inputs (positions, velocities,
     dryness, fluid mass, turgid perimeter), with the named effects switched off."""
     on = {k: k not in switches for k in SWITCHES}
     fluid = reference.fluid_state(state["x"], state["dryness"], state["mf"], state["l0p"], MAT,
                                   CUTOFF, periphery=on["periphery"], turgor=on["turgor"],
-                                  perimeter=on["perimeter"])
+                                  perimeter=on["perimeter"], implicit_dt=implicit_dt)
     f, pe, vir = reference.pair_forces(state["x"], state["v"], state["dryness"],
                                        fluid["cgmscoef"], MAT, CUTOFF,
                                        **{k: on[k] for k in ("turgor", "perimeter", "damping",
@@ -84,6 +84,17 @@ def test_state_and_forces_match_reference(tmp_path, seed):
     assert_close("virial", state["virial"], vir)
 
 
+def test_explicit_mass_rate_is_eqn_7(tmp_path):
+    """With transfer/scheme explicit the stored rate is eqn (7) itself; the default
+    implicit rate differs from it on this configuration (so both tests can fail)."""
+    make_tissue(tmp_path, jitter=0.05, seed=1, s=(0.3, 1.0), vscale=1e-3)
+    explicit = snapshot(tmp_path, steps=300, fix_args="transfer/scheme explicit")
+    fluid = expected(explicit, implicit_dt=None)[0]
+    assert_close("dmdt (explicit)", explicit["dmdt"], fluid["dmdt"])
+    implicit = expected(explicit)[0]["dmdt"]
+    assert np.max(np.abs(implicit - fluid["dmdt"])) > 1e-3 * np.max(np.abs(fluid["dmdt"]))
+
+
 @pytest.mark.parametrize("switch", SWITCHES)
 def test_each_switch_changes_exactly_its_terms(tmp_path, switch):
     make_tissue(tmp_path, jitter=0.08, seed=7, s=(0.3, 1.0), vscale=1e-3)
@@ -109,7 +120,7 @@ def test_fixed_cutoff_matches_reference(tmp_path):
     cut = 1.3 * MAT["x_ref"]
     state = snapshot(tmp_path, steps=50, pair_args=f"cutoff {cut!r}")
     fluid = reference.fluid_state(state["x"], state["dryness"], state["mf"], state["l0p"], MAT,
-                                  ("fixed", cut))
+                                  ("fixed", cut), implicit_dt=1e-7)
     f, _, _ = reference.pair_forces(state["x"], state["v"], state["dryness"],
                                     fluid["cgmscoef"], MAT, ("fixed", cut))
     for name in DERIVED:

@@ -185,47 +185,12 @@ void FixCGMSFluid::setup_pre_force(int)
   apply_dryness();
   initialise_beads();
   update_fluid_state(0);
-  check_time_step();
-}
-
-/* ----------------------------------------------------------------------
-   the relative-velocity damping is explicit: stable while
-   k_d lambda_max dt / m < 2, lambda_max the largest eigenvalue of the bead
-   graph's Laplacian. It is 9 for the hexagonal lattice (N = 6), and the
-   check uses 1.5 N_i per bead, which is that value and grows with denser
-   neighbourhoods. (MODEL.md 8: s = 0.3 with the paper's inertia explodes at
-   dt = 5e-8 s and runs at 3e-8 s; this gives 3.9e-8 s at the start.)
-   Checked at setup and, since masses and neighbour counts change, every step.
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::check_time_step()
-{
-  if (!pair->damping) return;
-  double **cg = store(lmp).cgms;
-  const double *rmass = atom->rmass;
-  const double dt = update->dt;
-  const double kd = 1.5 * pair->material().k_d;
-  // the bead with the smallest m / N sets the limit; report that one
-  int worst = -1;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (kd * dt * cg[i][NNEIGH] > 2.0 * rmass[i] &&
-        (worst < 0 || rmass[i] * cg[worst][NNEIGH] < rmass[worst] * cg[i][NNEIGH]))
-      worst = i;
-  if (worst < 0) return;
-  error->one(FLERR,
-             "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
-             "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
-             "use a smaller timestep{}",
-             dt, update->ntimestep, 2.0 * rmass[worst] / (kd * cg[worst][NNEIGH]), atom->tag[worst],
-             rmass[worst], cg[worst][NNEIGH], inertia_fluid ? " or 'inertia fresh'" : "");
 }
 
 void FixCGMSFluid::pre_force(int)
 {
-  if (transfer) transfer_mass();
   if (dryness_every > 0 && update->ntimestep % dryness_every == 0) apply_dryness();
   update_fluid_state(1);
-  check_time_step();
 }
 
 void FixCGMSFluid::min_pre_force(int)
@@ -310,12 +275,22 @@ void FixCGMSFluid::initialise_beads()
 }
 
 /* ----------------------------------------------------------------------
-   geometry (eqns 10-11), density, pressure (eqn 4), l_d (eqn 9), dm/dt
-   (eqn 7) and the pair coefficient, for every local bead
-   advance_density = 1: one step of the rate form of eqns (5)-(6)
+   geometry (eqns 10-11), density, pressure (eqn 4), l_d (eqn 9), the mass
+   rate (eqn 7) and the pair coefficient, for every local bead.
+   advance = 1 (a time step): first the mass transfer of the previous step,
+   m_f(n+1) = m_f(n) + dt dm_f/dt(n), and one step of the rate form of the
+   density, eqns (5)-(6). advance = 0 (setup, minimize): neither.
+   The mass transfer of step n is applied at the start of step n+1 rather
+   than at its end: the same update, but the state at the end of a step (and
+   so in a restart file) is the one its forces were computed from, so a
+   restarted run recomputes the same forces at setup.
+   transfer/scheme implicit stores dm_f/dt / (1 + dt lambda): a linearised
+   backward Euler step, stable at any dt; the explicit step (the paper's) is
+   unstable once dt lambda > 2, which a bead compressed by a third reaches at
+   dt = 1e-7 s since lambda grows as (rho/rho_ref)^7. Same fixed point.
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::update_fluid_state(int advance_density)
+void FixCGMSFluid::update_fluid_state(int advance)
 {
   // with turgor, perimeter and mass transfer all off nothing reads this state
   if (!pair->pair_coefficient_needed() && !transfer) return;
@@ -380,50 +355,88 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
   }
   if (newton_pair) comm->reverse_comm(this);
 
-  // pass 2: per-bead fluid state
+  // pass 2: per-bead fluid state. Divisions are the cost here: constants
+  // are hoisted, quantities that depend only on the dryness are recomputed
+  // when it changes from one bead to the next, and one reciprocal of the
+  // area serves the density and the implicit mass update.
 
   const double dt = update->dt;
   const double kT = pair->turgor ? mat.k_T : 0.0;
   const double kPA = pair->perimeter ? mat.k_PA : 0.0;
-  const double b_ref = mat.b_ref;
-  int isolated = -1, nonfinite = -1;
-  double s_beta = -1.0, beta_last = 1.0;
+  const double P_f = mat.P_f, K = mat.K, pectin = mat.pectin, b_ref = mat.b_ref;
+  const double inv_h = 1.0 / mat.height;
+  const double conductance = mat.height * mat.L_p;    // membrane area l h times L_p, per l
+  const double L_p = mat.L_p;
+  const double perim_slope = mat.perim_a / mat.perim_b;
+  const double kd_dt = pair->damping ? 1.5 * mat.k_d * dt : 0.0;
+  const int advance_mass = advance && transfer;
+  double *rmass = atom->rmass;
+  int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1;
 
+  double s_prev = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
+
+    // mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
+    if (advance_mass) {
+      c[MF] += dt * c[DMDT];
+      if (!(c[MF] > 0.0) && emptied < 0) emptied = i;
+      if (inertia_fluid) rmass[i] = c[MF] + c[MS];
+    }
+
     const double s = c[DRYNESS];
+    if (s != s_prev) {
+      s_prev = s;
+      beta = pair->periphery ? mat.beta(s) : 1.0;
+      inv_rho_ref = 1.0 / (s * mat.rho0);
+      P_ref = s * P_f;
+      Pi = s * mat.Pi_f;
+      ld_factor = 1.0 - perim_slope * (1.0 - s);
+    }
+
     const double nn = c[NNEIGH];
     double b;
     if (nn > 0.0) {
-      const double b_int = (c[SIDE] - nn * mat.pectin) / (SQRT3 * nn);
-      if (s != s_beta) {
-        s_beta = s;
-        beta_last = pair->periphery ? mat.beta(s) : 1.0;
-      }
-      const double beta = beta_last;
-      b = b_int / 6.0 * (nn + beta * MAX(0.0, 6.0 - nn));
+      const double b_int = (c[SIDE] - nn * pectin) / (SQRT3 * nn);
+      b = b_int * (1.0 / 6.0) * (nn + beta * MAX(0.0, 6.0 - nn));
     } else {
       if (!allow_isolated && isolated < 0) isolated = i;
       b = b_ref;
     }
     const double area = HEX_AREA * b * b;
+    const double inv_area = 1.0 / area;
     const double perim = 6.0 * b;
 
     double rho;
-    if (density_rate && advance_density && c[AREA] > 0.0) {
-      const double area_old = c[AREA];
-      rho = c[RHO] - c[RHO] * (area - area_old) / area_old + dt * c[DMDT] / (mat.height * area_old);
-    } else if (density_rate && !advance_density && c[AREA] > 0.0) {
-      rho = c[RHO];
+    if (density_rate && c[AREA] > 0.0) {
+      if (advance) {
+        const double inv_area_old = 1.0 / c[AREA];
+        rho =
+            c[RHO] - c[RHO] * (area - c[AREA]) * inv_area_old + dt * c[DMDT] * inv_h * inv_area_old;
+      } else {
+        rho = c[RHO];
+      }
     } else {
-      rho = c[MF] / (mat.height * area);
+      rho = c[MF] * inv_h * inv_area;
     }
 
-    const double rho_ref = s * mat.rho0;
-    const double q = rho / rho_ref;
+    const double q = rho * inv_rho_ref;
     const double q2 = q * q;
-    const double press = s * mat.P_f + mat.K * (q2 * q2 * q2 * q - 1.0);
-    const double ldeq = c[L0P] * (1.0 - mat.perim_a / mat.perim_b * (1.0 - s));
+    const double q7 = q2 * q2 * q2 * q;
+    const double press = P_ref + K * (q7 - 1.0);
+    const double ldeq = c[L0P] * ld_factor;
+
+    // eqn (7), and for the implicit scheme divided by 1 + dt lambda with
+    // lambda = -d(dm_f/dt)/dm_f = L_p (l/A) (P + Pi + 7 K q^7) when positive
+    // (d rho/d m_f = rho/m_f at fixed geometry, dP/d rho = 7 K q^6 / rho_ref)
+    double dmdt = 0.0;
+    if (transfer) {
+      dmdt = -perim * conductance * rho * (press + Pi);
+      if (transfer_implicit) {
+        const double lambda = L_p * perim * inv_area * (press + Pi + 7.0 * K * q7);
+        if (lambda > 0.0) dmdt /= 1.0 + dt * lambda;
+      }
+    }
 
     c[SIDE] = b;
     c[AREA] = area;
@@ -431,11 +444,20 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
     c[RHO] = rho;
     c[PRESS] = press;
     c[LDEQ] = ldeq;
-    c[DMDT] = transfer ? -perim * mat.height * mat.L_p * rho * (press + s * mat.Pi_f) : 0.0;
-    c[COEF] = 0.5 * (kT * (press - mat.P_f) - kPA * (perim - ldeq));
+    c[DMDT] = dmdt;
+    c[COEF] = 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
     if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
+    // damping stability (see check_damping_limit): the smallest m / N fails first
+    if (kd_dt * nn > 2.0 * rmass[i] &&
+        (unstable < 0 || rmass[i] * cg[unstable][NNEIGH] < rmass[unstable] * nn))
+      unstable = i;
   }
 
+  if (emptied >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
+               "unstable; reduce the time step (now {:.6g} s)",
+               atom->tag[emptied], cg[emptied][MF], update->ntimestep, dt);
   if (isolated >= 0)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use "
@@ -446,52 +468,31 @@ void FixCGMSFluid::update_fluid_state(int advance_density)
                "Fix cgms/fluid: bead {} has a non-finite pressure at step {}: the simulation "
                "became unstable; reduce the time step (now {:.6g} s)",
                atom->tag[nonfinite], update->ntimestep, dt);
+  if (unstable >= 0) damping_limit_error(unstable);
 
   if (pair->pair_coefficient_needed()) forward(COEF);
 }
 
 /* ----------------------------------------------------------------------
-   mass transfer m_f(n+1) = m_f(n) + dt g(n) / (1 + dt lambda(n)), g = dm_f/dt
-   of eqn (7). implicit (default): lambda = -dg/dm_f at fixed geometry,
-   linearised backward Euler, when that is positive; eqns (4) and (7) give
-     lambda = l L_p / A K (8 (rho/rho_ref)^7 - 1).
-   The explicit update (lambda = 0, the paper's scheme) is unstable when
-   dt lambda > 2, which a bead compressed by a third reaches at dt = 1e-7 s
-   (lambda grows as (rho/rho_ref)^7). Both have the same fixed point g = 0.
-   The update is applied at the start of step n+1 rather than at the end of
-   step n: the state at the end of a step (and so in a restart file) is the
-   one its forces were computed from, so a restarted run recomputes the same
-   forces at setup. DMDT is left holding the rate actually applied, which
-   the rate form of the density uses next.
+   the relative-velocity damping is explicit: stable while
+   k_d lambda_max dt / m < 2, lambda_max the largest eigenvalue of the bead
+   graph's Laplacian. It is 9 for the hexagonal lattice (N = 6); the check
+   uses 1.5 N_i per bead, which is that value and grows with denser
+   neighbourhoods. (MODEL.md 8: s = 0.3 with the paper's inertia explodes at
+   dt = 5e-8 s and runs at 3e-8 s; this gives 3.9e-8 s at the start.)
+   Checked at setup and, since masses and neighbour counts change, every step.
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::transfer_mass()
+void FixCGMSFluid::damping_limit_error(int i)
 {
-  const Material &mat = pair->material();
-  double **cg = store(lmp).cgms;
-  double *rmass = atom->rmass;
-  const int nlocal = atom->nlocal;
-  const double dt = update->dt;
-  const double stiffness = mat.L_p * mat.K;
-  int bad = -1;
-
-  for (int i = 0; i < nlocal; i++) {
-    double *c = cg[i];
-    if (transfer_implicit && c[AREA] > 0.0) {
-      const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
-      const double q2 = q * q;
-      const double lambda = stiffness * c[PERIM] / c[AREA] * (8.0 * q2 * q2 * q2 * q - 1.0);
-      if (lambda > 0.0) c[DMDT] /= 1.0 + dt * lambda;
-    }
-    c[MF] += dt * c[DMDT];
-    if (!(c[MF] > 0.0) && bad < 0) bad = i;
-    if (inertia_fluid) rmass[i] = c[MF] + c[MS];
-  }
-  if (bad >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
-               "unstable; reduce the time step (now {:.6g} s)",
-               atom->tag[bad], cg[bad][MF], update->ntimestep, dt);
+  const double m = atom->rmass[i];
+  const double nn = store(lmp).cgms[i][NNEIGH];
+  error->one(FLERR,
+             "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
+             "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
+             "use a smaller timestep{}",
+             update->dt, update->ntimestep, 2.0 * m / (1.5 * pair->material().k_d * nn),
+             atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
 }
 
 /* ----------------------------------------------------------------------

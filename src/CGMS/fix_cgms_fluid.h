@@ -56,9 +56,8 @@ class FixCGMSFluid : public Fix {
 
   void apply_dryness();
   void initialise_beads();
-  void update_fluid_state(int advance_density);
-  void transfer_mass();
-  void check_time_step();
+  void update_fluid_state(int advance);
+  void damping_limit_error(int);
   void forward(int column);
   void refresh_vector();
 };
