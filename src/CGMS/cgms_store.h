@@ -43,6 +43,13 @@ namespace CGMS {
   // frees through it after the AtomVec is gone (atom_style changes, restarts).
   struct Store {
     double **cgms = nullptr;
+    // compact copies of what the per-pair loops touch, so that a neighbour
+    // costs 8 or 16 bytes instead of a 112-byte row: the pair coefficient
+    // (local and ghost beads) and the pass-1 sums (neighbour count, sum of
+    // distances). Owned and grown by fix cgms/fluid.
+    double *coef = nullptr;
+    double *sums = nullptr;
+    int nmax = 0;
   };
   Store &store(LAMMPS *lmp);
 

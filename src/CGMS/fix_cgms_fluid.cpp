@@ -30,6 +30,19 @@ using namespace CGMS;
 static const double SQRT3 = sqrt(3.0);
 static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
 
+// 1 / (sqrt(3) N) of eqn (10) for the neighbour counts that occur: a lookup
+// instead of a division per bead
+static constexpr int MAXCOUNT = 32;
+static const struct InverseCounts {
+  double value[MAXCOUNT];
+  InverseCounts()
+  {
+    value[0] = 0.0;
+    for (int n = 1; n < MAXCOUNT; n++) value[n] = 1.0 / (sqrt(3.0) * n);
+  }
+  double operator[](int n) const { return value[n]; }
+} INV_SQRT3_N;
+
 /* ----------------------------------------------------------------------
    fix ID all cgms/fluid keyword value ...
 ------------------------------------------------------------------------- */
@@ -125,6 +138,10 @@ FixCGMSFluid::~FixCGMSFluid()
   if (modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
   delete[] dryness_var;
   memory->destroy(dryness_work);
+  Store &st = store(lmp);
+  memory->destroy(st.coef);
+  memory->destroy(st.sums);
+  st.nmax = 0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -310,10 +327,20 @@ void FixCGMSFluid::update_fluid_state(int advance)
                                                  : cutsq_fixed;
   const int per_pair_cutoff = scaled && !uniform;
 
-  // pass 1: neighbour count and sum of centre distances, in NNEIGH and SIDE
+  // pass 1: neighbour count and sum of centre distances, in the compact sums
 
+  Store &st = store(lmp);
+  if (atom->nmax > st.nmax) {
+    st.nmax = atom->nmax;
+    memory->destroy(st.coef);
+    memory->destroy(st.sums);
+    memory->create(st.coef, st.nmax, "cgms/fluid:coef");
+    memory->create(st.sums, 2 * st.nmax, "cgms/fluid:sums");
+  }
+  double *sums = st.sums;
+  double *coef = st.coef;
   const int nclear = newton_pair ? nall : nlocal;
-  for (int i = 0; i < nclear; i++) cg[i][NNEIGH] = cg[i][SIDE] = 0.0;
+  for (int k = 0; k < 2 * nclear; k++) sums[k] = 0.0;
 
   const int inum = list->inum;
   const int *ilist = list->ilist;
@@ -346,12 +373,12 @@ void FixCGMSFluid::update_fluid_state(int advance)
       n += 1.0;
       sum += r;
       if (newton_pair || j < nlocal) {
-        cg[j][NNEIGH] += 1.0;
-        cg[j][SIDE] += r;
+        sums[2 * j] += 1.0;
+        sums[2 * j + 1] += r;
       }
     }
-    cg[i][NNEIGH] += n;
-    cg[i][SIDE] += sum;
+    sums[2 * i] += n;
+    sums[2 * i + 1] += sum;
   }
   if (newton_pair) comm->reverse_comm(this);
 
@@ -394,10 +421,12 @@ void FixCGMSFluid::update_fluid_state(int advance)
       ld_factor = 1.0 - perim_slope * (1.0 - s);
     }
 
-    const double nn = c[NNEIGH];
+    const double nn = sums[2 * i];
     double b;
     if (nn > 0.0) {
-      const double b_int = (c[SIDE] - nn * pectin) / (SQRT3 * nn);
+      const int n_int = static_cast<int>(nn);
+      const double inv_n = n_int < MAXCOUNT ? INV_SQRT3_N[n_int] : 1.0 / (SQRT3 * nn);
+      const double b_int = (sums[2 * i + 1] - nn * pectin) * inv_n;
       b = b_int * (1.0 / 6.0) * (nn + beta * MAX(0.0, 6.0 - nn));
     } else {
       if (!allow_isolated && isolated < 0) isolated = i;
@@ -438,6 +467,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
       }
     }
 
+    c[NNEIGH] = nn;
     c[SIDE] = b;
     c[AREA] = area;
     c[PERIM] = perim;
@@ -445,7 +475,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
     c[PRESS] = press;
     c[LDEQ] = ldeq;
     c[DMDT] = dmdt;
-    c[COEF] = 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
+    c[COEF] = coef[i] = 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
     if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
     // damping stability (see check_damping_limit): the smallest m / N fails first
     if (kd_dt * nn > 2.0 * rmass[i] &&
@@ -545,34 +575,39 @@ void FixCGMSFluid::forward(int column)
 
 int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
-  double **cg = store(lmp).cgms;
-  for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
+  if (comm_column == COEF) {
+    const double *coef = store(lmp).coef;
+    for (int i = 0; i < n; i++) buf[i] = coef[list[i]];
+  } else {
+    double **cg = store(lmp).cgms;
+    for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
+  }
   return n;
 }
 
 void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
 {
-  double **cg = store(lmp).cgms;
-  for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
+  if (comm_column == COEF) {
+    double *coef = store(lmp).coef;
+    for (int i = 0; i < n; i++) coef[first + i] = buf[i];
+  } else {
+    double **cg = store(lmp).cgms;
+    for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
+  }
 }
 
 int FixCGMSFluid::pack_reverse_comm(int n, int first, double *buf)
 {
-  double **cg = store(lmp).cgms;
-  int m = 0;
-  for (int i = first; i < first + n; i++) {
-    buf[m++] = cg[i][NNEIGH];
-    buf[m++] = cg[i][SIDE];
-  }
-  return m;
+  const double *sums = store(lmp).sums;
+  for (int m = 0; m < 2 * n; m++) buf[m] = sums[2 * first + m];
+  return 2 * n;
 }
 
 void FixCGMSFluid::unpack_reverse_comm(int n, int *list, double *buf)
 {
-  double **cg = store(lmp).cgms;
-  int m = 0;
+  double *sums = store(lmp).sums;
   for (int i = 0; i < n; i++) {
-    cg[list[i]][NNEIGH] += buf[m++];
-    cg[list[i]][SIDE] += buf[m++];
+    sums[2 * list[i]] += buf[2 * i];
+    sums[2 * list[i] + 1] += buf[2 * i + 1];
   }
 }

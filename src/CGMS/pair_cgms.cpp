@@ -214,6 +214,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   double **v = atom->v;
   double **f = atom->f;
   double **cg = CGMS::store(lmp).cgms;
+  const double *coef = CGMS::store(lmp).coef;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
 
@@ -240,7 +241,9 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     const int i = ilist[ii];
     const double xtmp = x[i][0];
     const double ytmp = x[i][1];
-    const double ci = PAIRCOEF ? cg[i][CGMS::COEF] : 0.0;
+    const double ci = PAIRCOEF ? coef[i] : 0.0;
+    const double vxi = v[i][0];
+    const double vyi = v[i][1];
     const double si = cg[i][CGMS::DRYNESS];
     // dryness is mostly uniform: one log per change of s, not per bead
     if (si != s_last) {
@@ -268,19 +271,21 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       }
       if (rsq >= cutsq) continue;
 
+      // one division per pair: everything else multiplies by 1/x^2 or 1/x
+      const double r2inv = 1.0 / rsq;
       double fpair = 0.0;
       double evdwl = 0.0;
-      if (PAIRCOEF) fpair += (ci + cg[j][CGMS::COEF]) / sqrt(rsq);
+      if (PAIRCOEF) fpair += (ci + coef[j]) * sqrt(r2inv);
       if (LJ) {
-        const double q2 = rad * rad / rsq;
+        const double q2 = rad * rad * r2inv;
         const double q4 = q2 * q2;
         const double q8 = q4 * q4;
         if (q2 >= 1.0) {
-          if (LJ & LJ_REPULSION) fpair += f0r * (q8 - q4) / rsq;
+          if (LJ & LJ_REPULSION) fpair += f0r * (q8 - q4) * r2inv;
           if (EVFLAG && eflag_either)
             evdwl = (LJ & LJ_REPULSION ? f0r * (0.125 * q8 - 0.25 * q4) : 0.0) + e_in;
         } else if (LJ & LJ_ATTRACTION) {
-          fpair += f0a * (q8 - q4) / rsq;
+          fpair += f0a * (q8 - q4) * r2inv;
           if (EVFLAG && eflag_either) evdwl = f0a * (0.125 * q8 - 0.25 * q4);
         }
       }
@@ -288,8 +293,8 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       double fx = fpair * delx;
       double fy = fpair * dely;
       if (DAMP) {
-        fx -= kd * (v[i][0] - v[j][0]);
-        fy -= kd * (v[i][1] - v[j][1]);
+        fx -= kd * (vxi - v[j][0]);
+        fy -= kd * (vyi - v[j][1]);
       }
 
       fxtmp += fx;
