@@ -128,6 +128,19 @@ def test_fixed_cutoff_matches_reference(tmp_path):
     assert_close("force", state["f"], f)
 
 
+def test_forces_without_fluid_state_match_reference(tmp_path):
+    """With turgor, perimeter and mass transfer all off the fix skips its pass and the
+    pair finds its own neighbours (no distances from the fix): LJ and damping only."""
+    make_tissue(tmp_path, jitter=0.08, seed=6, s=(0.3, 1.0), vscale=1e-3)
+    state = snapshot(tmp_path, steps=20, pair_args="turgor no perimeter no",
+                     fix_args="transfer no")
+    f, pe, _ = reference.pair_forces(state["x"], state["v"], state["dryness"],
+                                     np.zeros(len(state["x"])), MAT, CUTOFF, turgor=False,
+                                     perimeter=False)
+    assert_close("force (LJ + damping)", state["f"], f)
+    assert_close("energy", state["pe"], pe)
+
+
 def test_forces_sum_to_zero(tmp_path):
     make_tissue(tmp_path, jitter=0.1, seed=11, s=(0.3, 1.0), vscale=1e-2)
     state = snapshot(tmp_path, steps=100)

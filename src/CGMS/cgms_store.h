@@ -5,6 +5,8 @@
 #ifndef LMP_CGMS_STORE_H
 #define LMP_CGMS_STORE_H
 
+#include "lmptype.h"
+
 namespace LAMMPS_NS {
 
 class LAMMPS;
@@ -50,6 +52,14 @@ namespace CGMS {
     double *coef = nullptr;
     double *sums = nullptr;
     int nmax = 0;
+    // the distance x of every entry of the neighbour list (0 beyond the
+    // cutoff), written by fix cgms/fluid's geometry pass and read by the
+    // pair's force loop of the same step when both walk the same list: the
+    // force loop then needs neither a square root nor a cutoff test
+    double *rdist = nullptr;
+    bigint rdist_size = 0;
+    int **rdist_list = nullptr;    // firstneigh of the list rdist follows
+    int rdist_valid = 0;           // set by the fix, cleared by the pair after use
   };
   Store &store(LAMMPS *lmp);
 

@@ -141,7 +141,10 @@ FixCGMSFluid::~FixCGMSFluid()
   Store &st = store(lmp);
   memory->destroy(st.coef);
   memory->destroy(st.sums);
+  memory->destroy(st.rdist);
   st.nmax = 0;
+  st.rdist_size = 0;
+  st.rdist_valid = 0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -339,6 +342,15 @@ void FixCGMSFluid::update_fluid_state(int advance)
   }
   double *sums = st.sums;
   double *coef = st.coef;
+  bigint npairs = 0;
+  for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
+  if (npairs > st.rdist_size) {
+    st.rdist_size = npairs + npairs / 4;
+    memory->destroy(st.rdist);
+    memory->create(st.rdist, st.rdist_size, "cgms/fluid:rdist");
+  }
+  double *rdist = st.rdist;
+  bigint k = 0;
   const int nclear = newton_pair ? nall : nlocal;
   for (int k = 0; k < 2 * nclear; k++) sums[k] = 0.0;
 
@@ -367,9 +379,12 @@ void FixCGMSFluid::update_fluid_state(int advance)
       const double dely = ytmp - x[j][1];
       const double rsq = delx * delx + dely * dely;
       if (rsq >= (per_pair_cutoff ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi))
-                                  : cutsq_uniform))
+                                  : cutsq_uniform)) {
+        rdist[k++] = 0.0;
         continue;
+      }
       const double r = sqrt(rsq);
+      rdist[k++] = r;
       n += 1.0;
       sum += r;
       if (newton_pair || j < nlocal) {
@@ -380,6 +395,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
     sums[2 * i] += n;
     sums[2 * i + 1] += sum;
   }
+  st.rdist_list = list->firstneigh;
+  st.rdist_valid = 1;
   if (newton_pair) comm->reverse_comm(this);
 
   // pass 2: per-bead fluid state. Divisions are the cost here: constants

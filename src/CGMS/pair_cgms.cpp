@@ -213,8 +213,13 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   double **x = atom->x;
   double **v = atom->v;
   double **f = atom->f;
-  double **cg = CGMS::store(lmp).cgms;
-  const double *coef = CGMS::store(lmp).coef;
+  CGMS::Store &st = CGMS::store(lmp);
+  double **cg = st.cgms;
+  const double *coef = st.coef;
+  // x per list entry from fix cgms/fluid, when it walked this very list
+  const int cached = st.rdist_valid && st.rdist_list == list->firstneigh;
+  const double *rdist = st.rdist;
+  bigint k = 0;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
 
@@ -259,23 +264,32 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       const int j = jlist[jj] & NEIGHMASK;
       const double delx = xtmp - x[j][0];
       const double dely = ytmp - x[j][1];
-      const double rsq = delx * delx + dely * dely;
-      double rad = 0.0;
-      double cutsq;
-      if (uniform) {
-        rad = rad_uniform;
-        cutsq = cutsq_uniform;
+      double rad = 0.0, r1inv, r2inv;
+      if (cached) {
+        const double r = rdist[k++];
+        if (r == 0.0) continue;    // beyond the cutoff
+        r1inv = 1.0 / r;
+        r2inv = r1inv * r1inv;
+        if (LJ) rad = uniform ? rad_uniform : pair_radius(si, cg[j][CGMS::DRYNESS], radi);
       } else {
-        if (LJ || scaled) rad = pair_radius(si, cg[j][CGMS::DRYNESS], radi);
-        cutsq = scaled ? pair_cutsq(rad) : cutsq_fixed;
+        const double rsq = delx * delx + dely * dely;
+        double cutsq = cutsq_fixed;
+        if (uniform) {
+          rad = rad_uniform;
+          cutsq = cutsq_uniform;
+        } else if (LJ || scaled) {
+          rad = pair_radius(si, cg[j][CGMS::DRYNESS], radi);
+          if (scaled) cutsq = pair_cutsq(rad);
+        }
+        if (rsq >= cutsq) continue;
+        // one division per pair: everything else multiplies by 1/x^2 or 1/x
+        r2inv = 1.0 / rsq;
+        r1inv = sqrt(r2inv);
       }
-      if (rsq >= cutsq) continue;
 
-      // one division per pair: everything else multiplies by 1/x^2 or 1/x
-      const double r2inv = 1.0 / rsq;
       double fpair = 0.0;
       double evdwl = 0.0;
-      if (PAIRCOEF) fpair += (ci + coef[j]) * sqrt(r2inv);
+      if (PAIRCOEF) fpair += (ci + coef[j]) * r1inv;
       if (LJ) {
         const double q2 = rad * rad * r2inv;
         const double q4 = q2 * q2;
@@ -309,6 +323,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     f[i][1] += fytmp;
   }
 
+  st.rdist_valid = 0;    // the next force call needs a fresh geometry pass
   if (vflag_fdotr) virial_fdotr_compute();
 }
 
