@@ -51,6 +51,11 @@ CASES = {
     "dryness variable": (dict(fix="fix fl all cgms/fluid dryness v_nothing"),
                          "Variable nothing for fix cgms/fluid dryness does not exist"),
     "group": (dict(fix="group g id 1\nfix fl g cgms/fluid"), "must be applied to group all"),
+    "diameter": (dict(fix="fix fl all cgms/fluid diameter -1e-4"), "diameter -0.0001 must be > 0"),
+    "diameter variable": (dict(fix="variable d atom 1e-4-id*1e-5\nfix fl all cgms/fluid diameter v_d"),
+                          "cell diameter 0 of bead 10 must be > 0"),
+    "dryness variable style": (dict(fix="variable t string abc\nfix fl all cgms/fluid dryness v_t"),
+                               "must be equal- or atom-style"),
 }
 
 

@@ -82,3 +82,26 @@ def test_restart_keeps_dryness_when_fix_omits_it(tmp_path):
             assert lmp.numpy.extract_fix("fl", 0, 1, 0) == pytest.approx(before, rel=1e-12)
     finally:
         lmp.close()
+
+
+def test_per_bead_cell_diameter(tmp_path):
+    """A heterogeneous tissue: each new bead's fresh fluid mass and turgid perimeter
+    follow its own cell diameter (MODEL.md 3 per bead), here from an atom-style variable."""
+    make_tissue(tmp_path, s=0.8)
+    lmp = new_lammps()
+    try:
+        with working_directory(tmp_path):
+            lmp.commands_string(header() + "variable d atom 140e-6+id*0.2e-6\n"
+                                + physics(fix_args="diameter v_d") + "run 0\n")
+            nlocal = lmp.extract_global("nlocal")
+            ids = np.array(lmp.numpy.extract_atom("id")[:nlocal])
+            cg = np.array(lmp.numpy.extract_fix("fl", LMP_STYLE_ATOM, LMP_TYPE_ARRAY))[:nlocal]
+    finally:
+        lmp.close()
+    d = 140e-6 + ids * 0.2e-6
+    area = np.pi * d**2 / 4
+    side = np.sqrt(2 * area / (3 * np.sqrt(3)))
+    col = {name: cg[:, k] for k, name in enumerate(COLUMNS)}
+    assert_close("mf0", col["mf0"], MAT["rho0"] * MAT["height"] * area, rtol=1e-14)
+    assert_close("l0p", col["l0p"], MAT["turgid_ratio"] * 6 * side, rtol=1e-14)
+    assert_close("mf", col["mf"], 0.8 * col["mf0"], rtol=1e-14)

@@ -12,6 +12,7 @@
 #include "error.h"
 #include "force.h"
 #include "input.h"
+#include "math_const.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -26,6 +27,7 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 using namespace CGMS;
+using MathConst::MY_PI;
 
 static const double SQRT3 = sqrt(3.0);
 static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
@@ -49,9 +51,10 @@ static const struct InverseCounts {
 
 FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
-    dryness_ivar(-1), dryness_given(0), dryness_every(0), density_rate(0), inertia_fluid(0),
-    transfer(1), transfer_implicit(1), allow_isolated(0), comm_column(COEF), dryness_work(nullptr),
-    nmax_work(0), vector_step(-1)
+    dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
+    diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
+    transfer_implicit(1), allow_isolated(0), comm_column(COEF), work(nullptr), nmax_work(0),
+    vector_step(-1)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -70,6 +73,15 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
         if (!(dryness_value > 0.0 && dryness_value <= 1.0))
           error->all(FLERR, "Fix cgms/fluid dryness {} is out of range: it must be in (0, 1]",
                      dryness_value);
+      }
+    } else if (key == "diameter") {
+      if (utils::strmatch(val, "^v_")) {
+        delete[] diameter_var;
+        diameter_var = utils::strdup(val + 2);
+      } else {
+        diameter_value = utils::numeric(FLERR, val, false, lmp);
+        if (!(diameter_value > 0.0))
+          error->all(FLERR, "Fix cgms/fluid diameter {} must be > 0", diameter_value);
       }
     } else if (key == "every") {
       dryness_every = utils::inumeric(FLERR, val, false, lmp);
@@ -107,10 +119,11 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
       else
         error->all(FLERR, "Fix cgms/fluid isolated must be 'error' or 'allow', not '{}'", val);
     } else {
-      error->all(FLERR,
-                 "Unknown fix cgms/fluid keyword '{}' (known: dryness every density inertia "
-                 "transfer transfer/scheme isolated)",
-                 key);
+      error->all(
+          FLERR,
+          "Unknown fix cgms/fluid keyword '{}' (known: dryness diameter every density inertia "
+          "transfer transfer/scheme isolated)",
+          key);
     }
     iarg += 2;
   }
@@ -137,7 +150,8 @@ FixCGMSFluid::~FixCGMSFluid()
 {
   if (modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
   delete[] dryness_var;
-  memory->destroy(dryness_work);
+  delete[] diameter_var;
+  memory->destroy(work);
   Store &st = store(lmp);
   memory->destroy(st.coef);
   memory->destroy(st.sums);
@@ -167,16 +181,26 @@ void FixCGMSFluid::init()
                "Fix cgms/fluid requires pair_style cgms: the pair style holds the material "
                "parameters and applies the forces");
 
-  if (dryness_var) {
-    dryness_ivar = input->variable->find(dryness_var);
-    if (dryness_ivar < 0)
-      error->all(FLERR, "Variable {} for fix cgms/fluid dryness does not exist", dryness_var);
-    if (!input->variable->equalstyle(dryness_ivar) && !input->variable->atomstyle(dryness_ivar))
-      error->all(FLERR, "Variable {} for fix cgms/fluid dryness must be equal- or atom-style",
-                 dryness_var);
-  }
+  dryness_ivar = find_variable(dryness_var, "dryness");
+  diameter_ivar = find_variable(diameter_var, "diameter");
 
   neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   index of the equal- or atom-style variable a keyword names, -1 for none
+------------------------------------------------------------------------- */
+
+int FixCGMSFluid::find_variable(const char *name, const char *keyword)
+{
+  if (!name) return -1;
+  const int ivar = input->variable->find(name);
+  if (ivar < 0)
+    error->all(FLERR, "Variable {} for fix cgms/fluid {} does not exist", name, keyword);
+  if (!input->variable->equalstyle(ivar) && !input->variable->atomstyle(ivar))
+    error->all(FLERR, "Variable {} for fix cgms/fluid {} must be equal- or atom-style", name,
+               keyword);
+  return ivar;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -219,6 +243,28 @@ void FixCGMSFluid::min_pre_force(int)
 }
 
 /* ----------------------------------------------------------------------
+   a constant (ivar < 0), or an equal- or atom-style variable, for every
+   local bead; the values live in a work array until the next call
+------------------------------------------------------------------------- */
+
+const double *FixCGMSFluid::per_bead_values(int ivar, double constant)
+{
+  if (atom->nmax > nmax_work) {
+    nmax_work = atom->nmax;
+    memory->destroy(work);
+    memory->create(work, nmax_work, "cgms/fluid:work");
+  }
+  const int nlocal = atom->nlocal;
+  if (ivar >= 0 && input->variable->atomstyle(ivar)) {
+    input->variable->compute_atom(ivar, igroup, work, 1, 0);
+  } else {
+    const double value = ivar >= 0 ? input->variable->compute_equal(ivar) : constant;
+    for (int i = 0; i < nlocal; i++) work[i] = value;
+  }
+  return work;
+}
+
+/* ----------------------------------------------------------------------
    set the DRYNESS column of local beads and send it to the ghosts
 ------------------------------------------------------------------------- */
 
@@ -231,19 +277,9 @@ void FixCGMSFluid::apply_dryness()
     // keep what the beads carry (e.g. from a restart file); new beads are fresh
     for (int i = 0; i < nlocal; i++)
       if (cg[i][MF0] <= 0.0) cg[i][DRYNESS] = 1.0;
-  } else if (!dryness_var) {
-    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = dryness_value;
-  } else if (input->variable->equalstyle(dryness_ivar)) {
-    const double s = input->variable->compute_equal(dryness_ivar);
-    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = s;
   } else {
-    if (atom->nmax > nmax_work) {
-      nmax_work = atom->nmax;
-      memory->destroy(dryness_work);
-      memory->create(dryness_work, nmax_work, "cgms/fluid:dryness_work");
-    }
-    input->variable->compute_atom(dryness_ivar, igroup, dryness_work, 1, 0);
-    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = dryness_work[i];
+    const double *value = per_bead_values(dryness_ivar, dryness_value);
+    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = value[i];
   }
 
   int bad = -1;
@@ -276,14 +312,22 @@ void FixCGMSFluid::initialise_beads()
   double **cg = store(lmp).cgms;
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
-  const double mf0 = mat.rho0 * mat.height * mat.A_ref;
+  const double *diameter =
+      per_bead_values(diameter_ivar, diameter_value > 0.0 ? diameter_value : mat.diameter);
 
+  int bad = -1;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
     if (c[MF0] <= 0.0) {
+      // the reference cell of MODEL.md 3, for this bead's cell diameter
+      const double d = diameter[i];
+      if (!(d > 0.0) && bad < 0) bad = i;
+      const double area_ref = MY_PI * d * d / 4.0;
+      const double l_ref = 6.0 * sqrt(2.0 * area_ref / (3.0 * SQRT3));
+      const double mf0 = mat.rho0 * mat.height * area_ref;
       const double s = c[DRYNESS];
       c[MF0] = mf0;
-      c[L0P] = mat.turgid_ratio * mat.l_ref;
+      c[L0P] = mat.turgid_ratio * l_ref;
       c[MF] = s * mf0;
       c[MS] = mat.solid_ratio * s * mf0;
       c[RHO] = s * mat.rho0;
@@ -292,6 +336,9 @@ void FixCGMSFluid::initialise_beads()
     }
     rmass[i] = inertia_fluid ? c[MF] + c[MS] : (1.0 + mat.solid_ratio) * c[MF0];
   }
+  if (bad >= 0)
+    error->one(FLERR, "Fix cgms/fluid: cell diameter {} of bead {} must be > 0", diameter[bad],
+               atom->tag[bad]);
 }
 
 /* ----------------------------------------------------------------------

@@ -40,6 +40,9 @@ class FixCGMSFluid : public Fix {
   char *dryness_var;       // name of an equal- or atom-style variable
   int dryness_ivar;
   int dryness_given;        // 0: keep each bead's stored dryness (new beads: 1)
+  double diameter_value;    // cell diameter of new beads (0: the material's), or
+  char *diameter_var;       // name of an equal- or atom-style variable
+  int diameter_ivar;
   int dryness_every;        // re-evaluate the variable every this many steps (0: at setup)
   int density_rate;         // 1: literal rate form of eqns (5)-(6); 0: rho = m_f / (h A)
   int inertia_fluid;        // 1: rmass = m_f + m_s (paper); 0: fresh mass (stable default)
@@ -47,13 +50,15 @@ class FixCGMSFluid : public Fix {
   int transfer_implicit;    // 1: linearised backward Euler; 0: explicit Euler (paper)
   int allow_isolated;       // a bead without neighbours: error (0) or reference cell (1)
 
-  int comm_column;         // column sent by forward communication
-  double *dryness_work;    // per-atom values of an atom-style dryness variable
+  int comm_column;    // column sent by forward communication
+  double *work;       // per-bead values of a keyword (dryness, diameter)
   int nmax_work;
 
   bigint vector_step;    // step of the cached global outputs
   double vector_cache[4];
 
+  int find_variable(const char *, const char *);
+  const double *per_bead_values(int, double);
   void apply_dryness();
   void initialise_beads();
   void update_fluid_state(int advance);
