@@ -87,7 +87,7 @@ def write_tissue(out, ncols, nrows, spacing, x_ref, prefix="tissue"):
     lattice with the given spacing, box margin 3 x_ref."""
     xy = tissue.hex_rectangle(ncols, nrows, spacing)
     a = out / f"{prefix}_{ncols}x{nrows}.cgms.data"
-    n = tissue.write_data(a, xy, 3 * x_ref, title=f"CGMS bench {ncols}x{nrows}")
+    n = tissue.write_data(a, xy, 3 * x_ref, title=f"CGMS bench {ncols}x{nrows}", overwrite=True)
     b = out / f"{prefix}_{ncols}x{nrows}.atomic.data"
     b.write_text(a.read_text().replace("Atoms # cgms", "Atoms # atomic"))
     return n, a, b

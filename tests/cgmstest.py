@@ -47,7 +47,7 @@ def make_tissue(folder, ncols=9, nrows=10, jitter=0.05, seed=0, s=1.0, vscale=0.
     v = rng.normal(0.0, vscale, (n, 2)) + np.asarray(drift, float) if vscale or any(drift) \
         else np.zeros((n, 2))
     folder = Path(folder)
-    tissue.write_data(folder / "tissue.data", xy, margin * XREF)
+    tissue.write_data(folder / "tissue.data", xy, margin * XREF, overwrite=True)
     lines = [f"set atom {i + 1} d_s {sv[i]:.17g} vx {v[i, 0]:.17g} vy {v[i, 1]:.17g}"
              for i in range(n)]
     (folder / "state.in").write_text("\n".join(lines) + "\n")

@@ -1,86 +1,164 @@
-"""Command line: ``python3 -m cgms main`` runs the main job."""
+"""Command line: ``python3 -m cgms main`` runs the main job (the microscale study);
+``study`` dries any rectangular tissue over moisture levels; ``target`` finds the initial
+dryness that reaches a given moisture."""
 
 import argparse
-import csv
 import sys
-import time
 from datetime import datetime
 from pathlib import Path
 
-from . import material, morphology, run, tissue
+import numpy as np
 
-DEFAULT_LEVELS = "1.0,0.8,0.6,0.4,0.3"
+from . import material, morphology, plots, study, tissue
+
+DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
+
+# the paper's microscale tissues (width x height, mm) and the 86-bead calibration tissue
+MICROSCALE = {
+    "calibration": (1.25, 1.5),
+    "1.5x1.5": (1.5, 1.5),
+    "1.5x2.0": (1.5, 2.0),
+    "1.5x2.5": (1.5, 2.5),
+    "2.0x2.0": (2.0, 2.0),
+    "2.0x2.5": (2.0, 2.5),
+}
+
+
+def new_folder(out, kind):
+    """A results folder that does not hold anything yet (nothing is overwritten)."""
+    out = Path(out) if out else Path("results") / kind / datetime.now().strftime("%Y%m%d-%H%M%S")
+    if out.exists() and any(out.iterdir()):
+        sys.exit(f"cgms: {out} exists and is not empty; choose another --out "
+                 "(or --resume to continue an interrupted study there)")
+    out.mkdir(parents=True, exist_ok=True)
+    return out
+
+
+def build(out, width_mm, height_mm, mat, cv=0.0, seed=1):
+    """Write the tissue's data file (reused if it is already there) and return its info."""
+    xy = tissue.rectangle(width_mm * 1e-3, height_mm * 1e-3, mat["x_ref"])
+    diameters = tissue.cell_diameters(len(xy), mat["diameter"], cv, seed) if cv > 0 else None
+    data = out / "tissue.data"
+    if not data.exists():
+        tissue.write_data(data, xy, 3 * mat["x_ref"], diameters=diameters,
+                          title=f"CGMS {width_mm} x {height_mm} mm tissue")
+    return dict(data=data, n=len(xy), diameters=diameters is not None)
+
+
+def dry(out, name, width_mm, height_mm, mat_file, levels, args):
+    """One tissue through every level: the table, the curves and the snapshots."""
+    mat = material.read(mat_file)
+    folder = out / name
+    folder.mkdir(exist_ok=True)
+    info = build(folder, width_mm, height_mm, mat, args.cv, args.seed)
+    print(f"cgms: {name}: {info['n']} beads ({width_mm} x {height_mm} mm)", flush=True)
+    results = study.sweep(info["data"], mat_file, folder, levels, progress=sys.stderr.isatty(),
+                          diameters=info["diameters"],
+                          steady=dict(residual=args.residual, speed=args.speed,
+                                      max_steps=args.max_steps))
+    rows = study.table(results)
+    for r in rows:
+        r["tissue"] = name
+        r["beads"] = info["n"]
+    plots.curves(rows, folder / "curves.png", title=f"{name}: {info['n']} beads")
+    fresh = results[int(np.argmax([r["dryness"] for r in results]))]
+    panels_p, panels_s = [], []
+    for r in results:
+        frame = morphology.read_dump(folder / f"tissue.s{r['dryness']:g}.dump",
+                                     columns=["pressure"], engine="numpy")[-1]
+        panels_p.append((f"s = {r['dryness']:g}", frame["xy"], frame["columns"]["pressure"] / 1e3))
+        panels_s.append((f"s = {r['dryness']:g}", r["xy"],
+                         morphology.shrinkage(r["xy"], fresh["xy"])))
+    plots.snapshots(panels_p, folder / "pressure.png", "turgor pressure (kPa)")
+    plots.snapshots(panels_s, folder / "shrinkage.png", "local area shrinkage", cmap="magma")
+    return rows
+
+
+def print_table(rows):
+    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0   steps  converged")
+    for r in rows:
+        print(f"  {r['tissue']:12s} {r['beads']:6d}  {r['s']:4.2f}  {r['X/X0']:.4f}  "
+              f"{r['A/A0']:.4f}  {r['P/P0']:.4f}  {r['EL/EL0']:.4f}  {r['steps']:6d}  "
+              f"{'yes' if r['converged'] else 'NO'}")
 
 
 def main_job(args):
-    """Dry one microscale tissue to steady state at each moisture level and tabulate it."""
-    out = Path(args.out) if args.out else \
-        Path("results") / "main" / datetime.now().strftime("%Y%m%d-%H%M%S")
-    if out.exists() and any(out.iterdir()):
-        sys.exit(f"cgms: {out} exists and is not empty; choose another --out "
-                 "(nothing is overwritten)")
-    out.mkdir(parents=True, exist_ok=True)
+    """The microscale study: the calibration tissue and the paper's five microscale
+    tissues, each dried to steady state at every level."""
+    out = Path(args.out) if (args.resume and args.out) else new_folder(args.out, "microscale")
+    mat_file = material.find(args.material)
+    levels = [float(s) for s in args.dryness.split(",")]
+    print(f"cgms: microscale study, material {mat_file.name}, levels {levels}; results in {out}",
+          flush=True)
+    rows = []
+    for name, (w, h) in MICROSCALE.items():
+        rows += dry(out, name, w, h, mat_file, levels, args)
+    study.write_csv(rows, out / f"summary-{datetime.now():%H%M%S}.csv")
+    print_table(rows)
+    print(f"\ncgms: table {out}/summary-*.csv; plots {out}/*/curves.png, pressure.png, "
+          f"shrinkage.png; dumps (OVITO) {out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
+    return 0
+
+
+def study_job(args):
+    out = Path(args.out) if (args.resume and args.out) else new_folder(args.out, "study")
+    mat_file = material.find(args.material)
+    levels = [float(s) for s in args.dryness.split(",")]
+    rows = dry(out, "tissue", args.width, args.height, mat_file, levels, args)
+    study.write_csv(rows, out / f"summary-{datetime.now():%H%M%S}.csv")
+    print_table(rows)
+    print(f"\ncgms: results in {out}")
+    return 0
+
+
+def target_job(args):
+    out = new_folder(args.out, "target")
     mat_file = material.find(args.material)
     mat = material.read(mat_file)
-    xy = tissue.hex_rectangle(args.cols, args.rows, mat["x_ref"])
-    data = out / "tissue.data"
-    n = tissue.write_data(data, xy, 3 * mat["x_ref"])
-    levels = [float(s) for s in args.dryness.split(",")]
-    print(f"cgms: {n} beads ({args.cols} x {args.rows} hexagonal lattice, spacing "
-          f"{mat['x_ref'] * 1e6:.2f} um), material {mat_file.name}; results in {out}", flush=True)
-
-    rows = []
-    for s in levels:
-        start = time.perf_counter()
-        lmp = run.open_lammps(log=out / f"log.s{s:g}.lammps")
-        try:
-            lmp.commands_string(run.tissue_script(
-                data.resolve(), mat_file.resolve(), s, dump=(out / f"tissue.s{s:g}.dump").resolve(),
-                steady=dict(residual=args.residual, speed=args.speed, max_steps=args.max_steps)))
-            state = run.steady_state(lmp)
-        finally:
-            lmp.close()
-        shape = morphology.hull_measures(state["xy"])
-        rows.append(dict(s=s, steps=state["steps"], moisture=state["moisture"],
-                         residual=state["residual"], speed=state["speed"], **shape,
-                         seconds=time.perf_counter() - start))
-        print(f"  s = {s:4.2f}: steady after {state['steps']:7d} steps "
-              f"({rows[-1]['seconds']:.1f} s), X/X0 reached {state['moisture']:.4f}", flush=True)
-
-    fresh = next((r for r in rows if r["s"] == 1.0), rows[0])
-    for r in rows:
-        r["A/A0"] = r["area"] / fresh["area"]
-        r["P/P0"] = r["perimeter"] / fresh["perimeter"]
-        r["EL/EL0"] = r["elongation"] / fresh["elongation"]
-    keys = ["s", "moisture", "A/A0", "P/P0", "EL/EL0", "steps", "residual", "speed", "area",
-            "perimeter", "elongation", "seconds"]
-    with open(out / "summary.csv", "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows(rows)
-
-    print("\n  s     X/X0    A/A0    P/P0   EL/EL0   (convex outline, normalised by s = 1)")
-    for r in rows:
-        print(f"  {r['s']:4.2f}  {r['moisture']:.4f}  {r['A/A0']:.4f}  {r['P/P0']:.4f}  "
-              f"{r['EL/EL0']:.4f}")
-    print(f"\ncgms: table {out / 'summary.csv'}; dumps (OVITO) {out}/tissue.s*.dump; "
-          f"LAMMPS logs {out}/log.s*.lammps")
+    info = build(out, args.width, args.height, mat, args.cv, args.seed)
+    result = study.target_moisture(info["data"], mat_file, args.target, out, xtol=args.xtol,
+                                   diameters=info["diameters"])
+    for s, x in result["evaluations"]:
+        print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
+    print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
+          f"({len(result['evaluations'])} runs; results in {out})")
     return 0
 
 
 def parser():
     p = argparse.ArgumentParser(prog="cgms", description=__doc__)
     sub = p.add_subparsers(dest="command", required=True)
-    m = sub.add_parser("main", help="dry a microscale tissue at five moisture levels")
-    m.add_argument("--out", help="results folder (default results/main/<date-time>)")
-    m.add_argument("--material", default="apple", help="material file (default apple)")
-    m.add_argument("--cols", type=int, default=10, help="beads per lattice row (default 10)")
-    m.add_argument("--rows", type=int, default=12, help="lattice rows (default 12)")
+
+    def common(q, width=True):
+        q.add_argument("--out", help="results folder (default results/<kind>/<date-time>)")
+        q.add_argument("--material", default="apple", help="material file (default apple)")
+        if width:
+            q.add_argument("--width", type=float, default=1.5, help="tissue width, mm")
+            q.add_argument("--height", type=float, default=1.5, help="tissue height, mm")
+        q.add_argument("--cv", type=float, default=0.0,
+                       help="coefficient of variation of cell diameters (0: uniform)")
+        q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
+        q.add_argument("--residual", type=float, default=1e-3, help="steady-state residual")
+        q.add_argument("--speed", type=float, default=1e-3, help="steady-state speed, m/s")
+        q.add_argument("--max-steps", type=int, default=400000, help="step limit per level")
+
+    m = sub.add_parser("main", help="the microscale study (six tissues, five levels)")
+    common(m, width=False)
     m.add_argument("--dryness", default=DEFAULT_LEVELS, help=f"levels (default {DEFAULT_LEVELS})")
-    m.add_argument("--residual", type=float, default=1e-3, help="steady-state pressure residual")
-    m.add_argument("--speed", type=float, default=1e-3, help="steady-state bead speed (m/s)")
-    m.add_argument("--max-steps", type=int, default=300000, help="step limit per level")
+    m.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
     m.set_defaults(func=main_job)
+
+    s = sub.add_parser("study", help="dry one rectangular tissue over moisture levels")
+    common(s)
+    s.add_argument("--dryness", default=DEFAULT_LEVELS, help=f"levels (default {DEFAULT_LEVELS})")
+    s.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
+    s.set_defaults(func=study_job)
+
+    t = sub.add_parser("target", help="initial dryness whose steady state reaches X/X0")
+    common(t)
+    t.add_argument("target", type=float, help="moisture X/X0 to reach, e.g. 0.60")
+    t.add_argument("--xtol", type=float, default=1e-3, help="tolerance on the initial s")
+    t.set_defaults(func=target_job)
     return p
 
 

@@ -1,13 +1,637 @@
-"""Tissue shape measures from bead centres (first version: convex outline)."""
+"""Tissue shape measures from bead (cell-centroid) positions (MODEL.md section 9).
+
+The tissue outline is the ordered closed polygon of the peripheral bead centres, found from
+a Delaunay triangulation of the beads with the long (non-neighbour) triangles removed.
+Tissue area ``A`` and perimeter ``P`` are those of that polygon; the elongation ``EL`` is
+the length of the vertical centre line over that of the horizontal centre line (both
+measured inside the outline). Values are normalised by the fresh state (``A/A0`` ...).
+
+Functions (all on NumPy arrays of positions ``xy`` with shape (n, 2), in any length unit):
+
+- :func:`outline`: indices of the peripheral beads, counter-clockwise.
+- :func:`boundary_cycles`: every boundary cycle (outer outlines and holes), for diagnosis.
+- :func:`measures`: area, perimeter, elongation, centroid of the outline polygon.
+- :func:`elongation_pca`: major/minor axis ratio from second moments (alternative EL).
+- :func:`normalise`: ``A/A0``, ``P/P0``, ``EL/EL0`` relative to a fresh tissue.
+- :func:`shrinkage`: per-bead local area shrinkage between a fresh and a later state.
+- :func:`read_dump`: frames of a LAMMPS ``dump custom`` text file.
+- :func:`hull_measures`: the first version (convex hull), kept for comparison.
+"""
+
+import gzip
+import math
+import warnings
 
 import numpy as np
-from scipy.spatial import ConvexHull
+from scipy.spatial import ConvexHull, Delaunay, cKDTree
+
+#: default ``max_edge`` as a multiple of the median nearest-neighbour distance; it lies
+#: between the first (1) and second (sqrt 3 = 1.73) neighbour shells of a hexagonal lattice
+MAX_EDGE_FACTOR = 1.5
 
 
 def hull_measures(xy):
     """Area and perimeter of the convex hull of the bead centres, and the elongation
     (extent along y / extent along x). The convex hull ignores inward bending of the
-    edges; the ordered peripheral-bead outline of MODEL.md 9 replaces it later."""
+    edges; :func:`measures` (the peripheral-bead outline of MODEL.md 9) replaces it."""
     hull = ConvexHull(xy)
     extent = np.ptp(xy, axis=0)
     return dict(area=hull.volume, perimeter=hull.area, elongation=extent[1] / extent[0])
+
+
+# ---------------------------------------------------------------------------------------
+# triangulation and outline
+
+
+def _points(xy, name="xy"):
+    """``xy`` as a float (n, 2) array; (n, 3) arrays lose their z column."""
+    p = np.asarray(xy, dtype=float)
+    if p.ndim != 2 or p.shape[1] not in (2, 3):
+        raise ValueError(f"{name} must have shape (n, 2) (or (n, 3), z ignored), "
+                         f"got {p.shape}")
+    p = p[:, :2]
+    if not np.all(np.isfinite(p)):
+        bad = np.flatnonzero(~np.all(np.isfinite(p), axis=1))
+        raise ValueError(f"{name} has non-finite positions at indices {bad[:10].tolist()}")
+    return p
+
+
+def _check_points(p):
+    """Reject fewer than 3 beads, coincident beads and collinear beads; return the
+    nearest-neighbour distances."""
+    n = len(p)
+    if n < 3:
+        raise ValueError(f"an outline needs at least 3 beads, got {n}")
+    dist, nbr = cKDTree(p).query(p, k=2)
+    if np.any(dist[:, 1] == 0):
+        i = int(np.flatnonzero(dist[:, 1] == 0)[0])
+        raise ValueError(f"beads {i} and {int(nbr[i, 1])} coincide at {p[i].tolist()}")
+    q = p - p.mean(axis=0)
+    sv = np.linalg.svd(q, compute_uv=False)
+    if sv[1] <= 1e-9 * sv[0]:
+        raise ValueError(f"all {n} beads are collinear (a single row has no area); "
+                         "an outline needs a two-dimensional tissue")
+    return dist[:, 1]
+
+
+def default_max_edge(xy):
+    """The default longest triangle edge: ``MAX_EDGE_FACTOR`` (1.5) times the median
+    nearest-neighbour distance of the beads."""
+    p = _points(xy)
+    return MAX_EDGE_FACTOR * float(np.median(_check_points(p)))
+
+
+def _signed_areas(p, tri):
+    a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
+                  - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def triangles(xy, max_edge=None):
+    """Kept Delaunay triangles of the beads: (k, 3) bead indices, each counter-clockwise,
+    no edge longer than ``max_edge`` (default :func:`default_max_edge`), no zero-area
+    sliver. Raises ValueError for degenerate input or when no triangle is kept."""
+    p = _points(xy)
+    nn = _check_points(p)
+    if max_edge is None:
+        max_edge = MAX_EDGE_FACTOR * float(np.median(nn))
+    elif not max_edge > 0:
+        raise ValueError(f"max_edge must be > 0, got {max_edge}")
+    q = p - p.mean(axis=0)
+    try:
+        tri = Delaunay(q).simplices.astype(np.int64)
+    except Exception as exc:  # scipy.spatial.QhullError (name varies between versions)
+        raise ValueError(f"Delaunay triangulation of {len(p)} beads failed: {exc}") from exc
+    area = _signed_areas(q, tri)
+    tri[area < 0] = tri[area < 0][:, ::-1]
+    area = np.abs(area)
+    e = np.stack([np.hypot(*(q[tri[:, (k + 1) % 3]] - q[tri[:, k]]).T) for k in range(3)],
+                 axis=1)
+    keep = np.all(e <= max_edge, axis=1) & (area > 1e-12 * max_edge**2)
+    if not np.any(keep):
+        raise ValueError(f"no Delaunay triangle has all edges <= max_edge = {max_edge:.6g} "
+                         f"(median nearest-neighbour distance {np.median(nn):.6g}): "
+                         "the beads do not form a connected tissue at that length")
+    return tri[keep]
+
+
+def _cycles_from_triangles(p, tri):
+    """All boundary cycles of the union of the CCW triangles ``tri``: list of bead-index
+    arrays (first bead not repeated), kept region on the left of each cycle, so outer
+    outlines are counter-clockwise and holes clockwise.
+
+    Boundary edges are the directed triangle edges whose reverse is not present. At a bead
+    with several boundary edges (two parts of the tissue touching at one bead), the walk
+    continues along the edge that bounds the same empty wedge as the edge it came in on,
+    so each cycle is the full boundary of one connected empty region: the outer outline
+    of a tissue pinched at a bead passes that bead twice instead of splitting."""
+    n = len(p)
+    a = np.concatenate([tri[:, 0], tri[:, 1], tri[:, 2]])
+    b = np.concatenate([tri[:, 1], tri[:, 2], tri[:, 0]])
+    code, rev = a * n + b, b * n + a
+    bnd = ~np.isin(code, rev)
+    a, b = a[bnd], b[bnd]
+    out = {}
+    for k, u in enumerate(a):
+        out.setdefault(int(u), []).append(k)
+    # successor of edge u->v: among the edges v->w, the first met turning counter-
+    # clockwise from the direction v->u (that wedge is the empty side of u->v)
+    succ = np.empty(len(a), dtype=np.int64)
+    for k in range(len(a)):
+        u, v = a[k], b[k]
+        cand = out[int(v)]
+        if len(cand) == 1:
+            succ[k] = cand[0]
+            continue
+        r = math.atan2(p[u, 1] - p[v, 1], p[u, 0] - p[v, 0])
+        ang = [(math.atan2(p[b[j], 1] - p[v, 1], p[b[j], 0] - p[v, 0]) - r) % (2 * math.pi)
+               for j in cand]
+        succ[k] = cand[int(np.argmin(ang))]
+    seen = np.zeros(len(a), dtype=bool)
+    cycles = []
+    for k0 in range(len(a)):
+        if seen[k0]:
+            continue
+        cyc, k = [], k0
+        while not seen[k]:
+            seen[k] = True
+            cyc.append(int(a[k]))
+            k = succ[k]
+        if k != k0:  # cannot happen for a valid triangulation
+            raise RuntimeError("outline walk did not close; please report this tissue")
+        cyc = np.array(cyc, dtype=np.int64)
+        start = int(np.argmin(cyc))  # deterministic start: the smallest bead index
+        cycles.append(np.roll(cyc, -start))
+    return cycles
+
+
+def polygon_area(poly):
+    """Signed (shoelace) area of the polygon with vertices ``poly`` (m, 2), implicitly
+    closed; positive for counter-clockwise order."""
+    q = np.asarray(poly, dtype=float)
+    q = q - q.mean(axis=0)
+    x, y = q[:, 0], q[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def boundary_cycles(xy, max_edge=None):
+    """Every boundary cycle of the kept triangulation (see :func:`outline`), largest
+    signed area first. Counter-clockwise cycles (area > 0) are outer outlines of
+    separate tissue pieces; clockwise ones (area < 0) are holes (a kept-triangle gap
+    inside the tissue, e.g. a locally stretched region). Returns a list of
+    ``(indices, signed_area)``."""
+    p = _points(xy)
+    cycles = _cycles_from_triangles(p, triangles(p, max_edge))
+    res = [(c, polygon_area(p[c])) for c in cycles]
+    return sorted(res, key=lambda t: -t[1])
+
+
+def outline(xy, max_edge=None):
+    """Indices of the peripheral beads, as an ordered closed polygon, counter-clockwise.
+
+    Method: Delaunay triangulation of the bead centres; triangles with any edge longer
+    than ``max_edge`` (default 1.5 x the median nearest-neighbour distance, between the
+    first and second neighbour shells of a hexagonal lattice) are dropped, so concave
+    (inward-bent) edges of the tissue are followed bead by bead; the boundary edges
+    (used by exactly one kept triangle) are walked into cycles.
+
+    The polygon is closed implicitly: the last bead connects to the first, which is not
+    repeated. It starts at the smallest bead index of the outline.
+
+    Degenerate input (fewer than 3 beads, coincident beads, all beads collinear, no kept
+    triangle) raises ValueError. If the boundary is not one cycle, the outer cycle of the
+    largest tissue piece (largest area) is returned and a UserWarning says what was left
+    out: holes inside the tissue (their area counts as tissue), other pieces not connected
+    to it by triangles, and beads in no kept triangle (isolated beads or dangling chains).
+    A bead where two parts of the tissue touch at a single point appears twice in the
+    returned outline (the polygon is then only weakly simple; area and perimeter are still
+    those of the whole piece). Use :func:`boundary_cycles` to inspect all cycles.
+    """
+    p = _points(xy)
+    tri = triangles(p, max_edge)
+    cycles = [(c, polygon_area(p[c])) for c in _cycles_from_triangles(p, tri)]
+    cycles.sort(key=lambda t: -t[1])
+    best, best_area = cycles[0]
+    if best_area <= 0:  # cannot happen: every piece has a CCW outer cycle
+        raise RuntimeError("no counter-clockwise outer outline found; please report this")
+    notes = []
+    pieces = [c for c, s in cycles if s > 0]
+    holes = [c for c, s in cycles if s < 0]
+    if len(pieces) > 1:
+        other = np.setdiff1d(np.concatenate(pieces[1:]), best)
+        notes.append(f"{len(pieces) - 1} other tissue piece(s) with {len(other)} outline "
+                     f"bead(s) (areas {[round(s / best_area, 4) for c, s in cycles[1:] if s > 0]}"
+                     " of the largest) are left out")
+    if holes:
+        notes.append(f"{len(holes)} hole(s) inside the tissue (total area "
+                     f"{-sum(s for c, s in cycles if s < 0) / best_area:.4g} of the outline "
+                     "area) count as tissue")
+    loose = len(p) - len(np.unique(tri))
+    if loose:
+        notes.append(f"{loose} bead(s) belong to no triangle with edges <= max_edge "
+                     "(isolated or on dangling chains) and are ignored")
+    if len(np.unique(best)) < len(best):
+        notes.append("the outline passes a bead twice (two parts touching at one bead)")
+    if notes:
+        warnings.warn("tissue outline: " + "; ".join(notes), UserWarning, stacklevel=2)
+    return best
+
+
+# ---------------------------------------------------------------------------------------
+# measures
+
+
+def _polygon_moments(poly):
+    """Area, centroid and central second moments (Sxx, Syy, Sxy = integrals of dx^2,
+    dy^2, dx dy over the polygon) of a CCW polygon."""
+    q = np.asarray(poly, dtype=float)
+    o = q.mean(axis=0)
+    q = q - o
+    x0, y0 = q[:, 0], q[:, 1]
+    x1, y1 = np.roll(x0, -1), np.roll(y0, -1)
+    c = x0 * y1 - x1 * y0
+    area = 0.5 * c.sum()
+    if not area > 0:
+        raise ValueError("the outline polygon has no positive area")
+    cx = ((x0 + x1) * c).sum() / (6 * area)
+    cy = ((y0 + y1) * c).sum() / (6 * area)
+    ixx = ((x0 * x0 + x0 * x1 + x1 * x1) * c).sum() / 12
+    iyy = ((y0 * y0 + y0 * y1 + y1 * y1) * c).sum() / 12
+    ixy = ((x0 * y1 + 2 * x0 * y0 + 2 * x1 * y1 + x1 * y0) * c).sum() / 24
+    return (area, np.array([cx, cy]) + o,
+            (ixx - area * cx * cx, iyy - area * cy * cy, ixy - area * cx * cy))
+
+
+def _axis_ratio(sxx, syy, sxy):
+    lam = np.linalg.eigvalsh(np.array([[sxx, sxy], [sxy, syy]]))
+    if not lam[0] > 0:
+        raise ValueError("degenerate second moments (no extent along one axis)")
+    return math.sqrt(lam[1] / lam[0])
+
+
+def line_extent(poly, value, axis):
+    """Extent of a closed polygon along a line: for ``axis=0`` the vertical line
+    ``x = value`` (extent in y), for ``axis=1`` the horizontal line ``y = value``
+    (extent in x). It is the distance between the outermost intersections of the line
+    with the polygon edges, so for a non-convex outline that the line crosses more than
+    twice, the gaps in between are included. Returns (extent, (low, high))."""
+    q = np.asarray(poly, dtype=float)
+    u = q[:, axis] - value
+    v = q[:, 1 - axis]
+    u1, v1 = np.roll(u, -1), np.roll(v, -1)
+    hits = [v[u == 0]]
+    cross = u * u1 < 0
+    hits.append(v[cross] + (v1[cross] - v[cross]) * u[cross] / (u[cross] - u1[cross]))
+    hits = np.concatenate(hits)
+    if hits.size == 0:
+        name = "x" if axis == 0 else "y"
+        raise ValueError(f"the line {name} = {value:.6g} misses the outline")
+    lo, hi = float(hits.min()), float(hits.max())
+    return hi - lo, (lo, hi)
+
+
+def measures(xy, max_edge=None):
+    """Shape of the tissue outline (:func:`outline`) as a dict:
+
+    - ``area``, ``perimeter``: of the outline polygon of peripheral bead centres.
+    - ``centroid``: area centroid of that polygon, (x, y).
+    - ``height``, ``width``: extent of the outline along the vertical line x = centroid x
+      and along the horizontal line y = centroid y (outermost intersections with the
+      polygon; see :func:`line_extent`).
+    - ``elongation``: ``height / width`` (MODEL.md 9, paper section 2.5: for a rectangular
+      tissue, the vertical symmetry axis over the horizontal one). Measured in the fixed
+      x-y frame, so it is not rotation invariant; it may be below 1.
+    - ``elongation_pca``: major/minor axis ratio from the polygon's second moments
+      (:func:`elongation_pca`), rotation invariant and >= 1.
+    - ``outline``: the bead indices of the outline (counter-clockwise).
+    """
+    p = _points(xy)
+    idx = outline(p, max_edge)
+    poly = p[idx]
+    area, centroid, mom = _polygon_moments(poly)
+    perimeter = float(np.sum(np.hypot(*(np.roll(poly, -1, axis=0) - poly).T)))
+    height, _ = line_extent(poly, centroid[0], axis=0)
+    width, _ = line_extent(poly, centroid[1], axis=1)
+    return dict(area=float(area), perimeter=perimeter, elongation=height / width,
+                centroid=(float(centroid[0]), float(centroid[1])), height=height, width=width,
+                elongation_pca=_axis_ratio(*mom), outline=idx)
+
+
+def elongation_pca(xy, max_edge=None, source="outline"):
+    """Major/minor axis ratio ``sqrt(l1 / l2)`` of the eigenvalues l1 >= l2 of the second
+    moment (covariance) matrix: of the area enclosed by the outline polygon
+    (``source="outline"``, default) or of the bead positions (``source="beads"``).
+
+    For a rectangle or an ellipse (area moments) this is exactly the side or axis ratio,
+    whatever the orientation; it is always >= 1 and rotation invariant, unlike the
+    symmetry-axis elongation of :func:`measures` (height / width in the x-y frame), which
+    is the paper's definition. The bead version weighs every bead equally, so a denser
+    periphery pulls it towards the outline."""
+    p = _points(xy)
+    if source == "outline":
+        _, _, mom = _polygon_moments(p[outline(p, max_edge)])
+        return _axis_ratio(*mom)
+    if source == "beads":
+        _check_points(p)
+        q = p - p.mean(axis=0)
+        return _axis_ratio((q[:, 0] ** 2).sum(), (q[:, 1] ** 2).sum(), (q[:, 0] * q[:, 1]).sum())
+    raise ValueError(f"source must be 'outline' or 'beads', got {source!r}")
+
+
+def normalise(m, fresh):
+    """Normalised morphology ``{"A/A0", "P/P0", "EL/EL0"}`` of measures ``m`` relative to
+    the fresh-state measures ``fresh`` (dicts from :func:`measures`, or any dicts with
+    ``area``, ``perimeter``, ``elongation``). Adds ``"ELpca/ELpca0"`` when both carry
+    ``elongation_pca``."""
+    out = {}
+    for key, name in (("A/A0", "area"), ("P/P0", "perimeter"), ("EL/EL0", "elongation")):
+        if name not in m or name not in fresh:
+            raise ValueError(f"normalise needs '{name}' in both dicts")
+        if not fresh[name] > 0:
+            raise ValueError(f"fresh {name} must be > 0, got {fresh[name]}")
+        out[key] = float(m[name]) / float(fresh[name])
+    if "elongation_pca" in m and "elongation_pca" in fresh:
+        out["ELpca/ELpca0"] = float(m["elongation_pca"]) / float(fresh["elongation_pca"])
+    return out
+
+
+def shrinkage(xy, xy_fresh, max_edge=None):
+    """Per-bead local area shrinkage ``1 - a / a0``, shape (n,).
+
+    The local area of a bead is one third of the area of the kept Delaunay triangles
+    around it (:func:`triangles`). The triangulation is made once, on the fresh positions
+    ``xy_fresh`` (``max_edge`` applies to them), and the same triangles (bead indices) are
+    measured in ``xy``: the beads are matched by index, so both arrays must list the same
+    beads in the same order (e.g. sorted by id). Triangle areas are signed with the fresh
+    orientation, so a triangle turned over counts negative. Beads in no kept triangle get
+    NaN. A uniform scaling by ``s`` gives ``1 - s**2`` everywhere."""
+    p = _points(xy)
+    p0 = _points(xy_fresh, "xy_fresh")
+    if p.shape != p0.shape:
+        raise ValueError(f"xy has {len(p)} beads, xy_fresh has {len(p0)}: they must match "
+                         "bead by bead")
+    tri = triangles(p0, max_edge)
+    q = p - p.mean(axis=0)
+    q0 = p0 - p0.mean(axis=0)
+    a0 = np.bincount(tri.ravel(), np.repeat(_signed_areas(q0, tri), 3), len(p)) / 3
+    a = np.bincount(tri.ravel(), np.repeat(_signed_areas(q, tri), 3), len(p)) / 3
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(a0 > 0, 1 - a / np.where(a0 > 0, a0, 1), np.nan)
+
+
+# ---------------------------------------------------------------------------------------
+# LAMMPS dump files
+
+#: coordinate column sets, in the order they are looked for
+_COORDS = (("x", "y"), ("xu", "yu"), ("xs", "ys"), ("xsu", "ysu"))
+
+
+def _open_text(path):
+    path = str(path)
+    if path.endswith(".gz"):
+        return gzip.open(path, "rt")
+    return open(path)
+
+
+def _dump_frames(path):
+    """Parse a LAMMPS text dump: list of dicts (timestep, box, box_flags, columns names,
+    rows (n, ncol) str array, items: other ITEM names). A truncated last frame (dump
+    still being written) is dropped with a warning; other malformed input raises."""
+    frames = []
+    with _open_text(path) as fh:
+        lines = fh.read().splitlines()
+    i, n_lines = 0, len(lines)
+
+    def need(k, what):
+        if i + k > n_lines:
+            raise EOFError(what)
+
+    frame, pending = None, {}
+    try:
+        while i < n_lines:
+            line = lines[i].strip()
+            if not line:
+                i += 1
+                continue
+            if not line.startswith("ITEM:"):
+                raise ValueError(f"{path}: line {i + 1}: expected 'ITEM: ...', got {line[:60]!r}")
+            item = line[5:].strip()
+            i += 1
+            if item.startswith("TIMESTEP"):
+                need(1, "TIMESTEP")
+                frame = dict(timestep=int(lines[i].split()[0]), items=pending, natoms=None)
+                frames.append(frame)
+                pending = {}
+                i += 1
+                continue
+            standard = item.startswith(("NUMBER OF ATOMS", "BOX BOUNDS", "ATOMS"))
+            if not standard:  # ITEM: UNITS, ITEM: TIME (written before TIMESTEP), ...
+                start = i
+                while i < n_lines and not lines[i].startswith("ITEM:"):
+                    i += 1
+                key = item.split()[0] if item else item
+                if frame is None or "columns" in frame:
+                    pending[key] = lines[start:i]
+                else:
+                    frame["items"][key] = lines[start:i]
+                continue
+            if frame is None:
+                raise ValueError(f"{path}: line {i}: '{line}' before the first ITEM: TIMESTEP")
+            if item.startswith("NUMBER OF ATOMS"):
+                need(1, "NUMBER OF ATOMS")
+                frame["natoms"] = int(lines[i])
+                i += 1
+            elif item.startswith("BOX BOUNDS"):
+                need(3, "BOX BOUNDS")
+                frame["box_flags"] = item.split()[2:]
+                frame["box"] = np.array([[float(w) for w in lines[i + k].split()]
+                                         for k in range(3)])
+                i += 3
+            elif item.startswith("ATOMS"):
+                if frame["natoms"] is None:
+                    raise ValueError(f"{path}: line {i}: ITEM: ATOMS before ITEM: NUMBER OF ATOMS")
+                cols = item.split()[1:]
+                n = frame["natoms"]
+                need(n, "ATOMS")
+                rows = [lines[i + k].split() for k in range(n)]
+                bad = [k for k, r in enumerate(rows) if len(r) != len(cols)]
+                if bad:
+                    if i + n >= n_lines and bad == [n - 1]:
+                        raise EOFError("ATOMS")
+                    raise ValueError(f"{path}: line {i + bad[0] + 1}: {len(rows[bad[0]])} values "
+                                     f"for {len(cols)} columns {cols}")
+                frame["columns"] = cols
+                frame["rows"] = np.array(rows, dtype=str).reshape(n, len(cols))
+                i += n
+    except EOFError as exc:
+        if frames and "columns" not in frames[-1]:
+            last = frames.pop()["timestep"]
+        else:
+            last = "unknown"
+        warnings.warn(f"{path}: the dump ends inside ITEM: {exc} (a frame still being "
+                      f"written?); the incomplete last frame (timestep {last}) is left out",
+                      UserWarning, stacklevel=3)
+    for f in frames:
+        if "columns" not in f:
+            raise ValueError(f"{path}: frame at timestep {f['timestep']} has no ITEM: ATOMS")
+        if "box" not in f:
+            raise ValueError(f"{path}: frame at timestep {f['timestep']} has no ITEM: BOX BOUNDS")
+    if not frames:
+        raise ValueError(f"{path}: no complete frame (ITEM: TIMESTEP ... ITEM: ATOMS)")
+    return frames
+
+
+def _real_box(box, flags):
+    """(lo (3,), lengths (3,), tilt (xy, xz, yz)) from the BOX BOUNDS lines."""
+    if box.shape[1] == 3:  # triclinic: bounding box plus tilt factors
+        xy, xz, yz = box[:, 2]
+        lo = np.array([box[0, 0] - min(0.0, xy, xz, xy + xz), box[1, 0] - min(0.0, yz), box[2, 0]])
+        hi = np.array([box[0, 1] - max(0.0, xy, xz, xy + xz), box[1, 1] - max(0.0, yz), box[2, 1]])
+        return lo, hi - lo, (xy, xz, yz)
+    return box[:, 0], box[:, 1] - box[:, 0], (0.0, 0.0, 0.0)
+
+
+def _frame_xy(path, f):
+    """Real x, y from whichever coordinate columns the frame has (unsorted)."""
+    col = {c: k for k, c in enumerate(f["columns"])}
+    for cx, cy in _COORDS:
+        if cx in col and cy in col:
+            x = f["rows"][:, col[cx]].astype(float)
+            y = f["rows"][:, col[cy]].astype(float)
+            if cx.startswith("xs"):
+                lo, length, (txy, txz, tyz) = _real_box(f["box"], f["box_flags"])
+                cz = "zs" if cx == "xs" else "zsu"
+                z = f["rows"][:, col[cz]].astype(float) if cz in col else 0.0
+                x, y = (lo[0] + x * length[0] + y * txy + z * txz,
+                        lo[1] + y * length[1] + z * tyz)
+            return np.column_stack([x, y]), (cx, cy)
+    missing = [c for c in ("x", "y") if c not in col]
+    raise ValueError(f"{path}: frame at timestep {f['timestep']}: no column "
+                     f"{' and '.join(repr(c) for c in missing)} (nor xu yu, xs ys, xsu ysu) "
+                     f"in ITEM: ATOMS {' '.join(f['columns'])}")
+
+
+def _mdanalysis_reason(frames):
+    """Why MDAnalysis (2.4) cannot read these frames, or None."""
+    cols = frames[0]["columns"]
+    missing = [c for c in ("id", "type") if c not in cols]
+    if missing:
+        return f"it needs the column(s) {', '.join(missing)}"
+    if not any(all(c in cols for c in s) for s in (("x", "y", "z"), ("xu", "yu", "zu"))):
+        have = [c for c in ("x", "y", "z", "xs", "ys", "zs") if c in cols]
+        why = "it needs x y z (or xu yu zu) and the dump has " + (" ".join(have) or "neither")
+        if any(c in cols for c in ("xs", "xsu")):
+            why += " (scaled coordinates: MDAnalysis 2.4 returns L*xs - xlo, issue #4788)"
+        return why
+    if any(f["columns"] != cols or f["natoms"] != frames[0]["natoms"] or f["items"]
+           for f in frames):
+        return "it needs the same columns and atom count in every frame and no extra ITEM " \
+               "sections (TIME, UNITS)"
+    return None
+
+
+def _mdanalysis_xy(path, frames):
+    """Positions (sorted by id) of every frame read with MDAnalysis, shift undone."""
+    with warnings.catch_warnings(record=True):  # xdrlib deprecation, "Guessed all Masses"
+        warnings.simplefilter("ignore")  # (record: MDAnalysis adds its own filter on import)
+        import MDAnalysis as mda
+        cols = frames[0]["columns"]
+        conv = "unscaled" if all(c in cols for c in ("x", "y", "z")) else "unwrapped"
+        u = mda.Universe(str(path), format="LAMMPSDUMP", lammps_coordinate_convention=conv)
+        if u.trajectory.n_frames != len(frames):
+            raise ValueError(f"{path}: MDAnalysis sees {u.trajectory.n_frames} frames, the "
+                             f"parser {len(frames)}; use engine='numpy'")
+        shift = tuple(int(v) for v in mda.__version__.split(".")[:2]) >= (2, 4)
+        out = []
+        for ts, f in zip(u.trajectory, frames):
+            xy = np.array(ts.positions[:, :2], dtype=float)
+            if shift:  # MDAnalysis >= 2.4 moves the box origin to 0
+                xy += _real_box(f["box"], f["box_flags"])[0][:2]
+            out.append((ts.data["step"], np.array(u.atoms.ids, dtype=np.int64), xy))
+    return out
+
+
+def read_dump(path, columns=None, engine="auto"):
+    """Frames of a LAMMPS ``dump custom`` (or ``dump atom``) text file (``.gz`` allowed).
+
+    Returns a list with one dict per frame:
+
+    - ``timestep`` (int), ``ids`` (n,) int sorted ascending,
+    - ``xy`` (n, 2) float positions sorted by id, in the dump's length unit (SI for CGMS);
+      scaled columns (xs ys, xsu ysu) are converted with the box, triclinic included,
+    - ``box``: the three BOX BOUNDS lines as written, (3, 2) or (3, 3) for triclinic,
+    - ``columns``: {name: (n,) array sorted by id} for the requested extra columns
+      (``columns``: a name, a list of names, ``"all"`` for every column except id and the
+      coordinates used, or None for none); numeric columns are float, others str,
+    - ``reader``: ``"MDAnalysis"`` or ``"numpy"``, whichever read the positions,
+    - ``time``: simulated time, when the dump has ``ITEM: TIME`` (dump_modify time yes).
+
+    ``engine``: ``"numpy"`` reads everything with the built-in parser (float64, any
+    columns, any ITEM sections, truncated last frame dropped with a warning);
+    ``"mdanalysis"`` reads the positions with ``MDAnalysis.Universe(path,
+    format="LAMMPSDUMP")``, which needs the columns ``id``, ``type`` and ``x y z`` (or
+    ``xu yu zu``), a fixed atom count and no extra ITEM sections; it stores float32 and
+    (2.4 and later) moves the box origin to 0, which is undone here. ``"auto"`` (default)
+    uses MDAnalysis when it can read the file and the parser otherwise (a dump without a
+    z column, e.g. ``id type x y vx vy mf ...``, always goes to the parser). The extra
+    columns, timestep and box always come from the parser.
+
+    Raises ValueError for a dump without ``id`` or coordinate columns, naming the missing
+    column, or without a requested column.
+    """
+    if engine not in ("auto", "numpy", "mdanalysis"):
+        raise ValueError(f"engine must be 'auto', 'numpy' or 'mdanalysis', got {engine!r}")
+    frames = _dump_frames(path)
+    if isinstance(columns, str) and columns != "all":
+        columns = [columns]
+    result = []
+    for f in frames:
+        col = {c: k for k, c in enumerate(f["columns"])}
+        if "id" not in col:
+            raise ValueError(f"{path}: frame at timestep {f['timestep']}: no column 'id' in "
+                             f"ITEM: ATOMS {' '.join(f['columns'])}")
+        ids = f["rows"][:, col["id"]].astype(np.int64)
+        order = np.argsort(ids, kind="stable")
+        ids = ids[order]
+        if np.any(np.diff(ids) == 0):
+            raise ValueError(f"{path}: frame at timestep {f['timestep']}: repeated atom id "
+                             f"{int(ids[np.flatnonzero(np.diff(ids) == 0)[0]])}")
+        xy, used = _frame_xy(path, f)
+        if columns == "all":
+            names = [c for c in f["columns"] if c != "id" and c not in used
+                     and c not in ("z", "zu", "zs", "zsu")]
+        else:
+            names = list(columns or [])
+        missing = [c for c in names if c not in col]
+        if missing:
+            raise ValueError(f"{path}: frame at timestep {f['timestep']}: no column "
+                             f"{', '.join(repr(c) for c in missing)} in ITEM: ATOMS "
+                             f"{' '.join(f['columns'])}")
+        extra = {}
+        for c in names:
+            raw = f["rows"][order, col[c]]
+            try:
+                extra[c] = raw.astype(float)
+            except ValueError:
+                extra[c] = raw
+        result.append(dict(timestep=f["timestep"], ids=ids, xy=xy[order], box=f["box"],
+                           columns=extra, reader="numpy"))
+        if f["items"].get("TIME"):
+            result[-1]["time"] = float(f["items"]["TIME"][0])
+    if engine != "numpy":
+        why = _mdanalysis_reason(frames)
+        if why and engine == "mdanalysis":
+            raise ValueError(f"{path}: MDAnalysis cannot read this dump: {why}")
+        if not why:
+            try:
+                mda_frames = _mdanalysis_xy(path, frames)
+            except ImportError:
+                if engine == "mdanalysis":
+                    raise
+                return result
+            for r, (step, ids, xy) in zip(result, mda_frames):
+                if step != r["timestep"] or not np.array_equal(ids, r["ids"]):
+                    raise ValueError(f"{path}: MDAnalysis and the parser disagree on frame "
+                                     f"{r['timestep']}; use engine='numpy'")
+                r["xy"], r["reader"] = xy, "MDAnalysis"
+    return result

@@ -3,7 +3,12 @@
 import os
 from pathlib import Path
 
+import numpy as np
+
 STEADY_DEFAULTS = dict(residual=1e-3, speed=1e-3, every=1000, max_steps=300000)
+
+# per-bead columns written to dumps, named for OVITO and cgms.morphology.read_dump
+DUMP_FIELDS = ["mf", "rho", "pressure", "nneigh", "side", "area", "perim", "dmdt", "dryness"]
 
 
 def plugin_path():
@@ -32,14 +37,25 @@ def open_lammps(log="none", screen=False):
     return lmp
 
 
+def dump_columns():
+    """``compute cell`` and the dump arguments that name its columns."""
+    compute = "compute cell all property/atom " + " ".join(DUMP_FIELDS)
+    names = " ".join(f"colname c_cell[{k + 1}] {f}" for k, f in enumerate(DUMP_FIELDS))
+    names += " format float %.10g"
+    return compute, "id type x y z vx vy c_cell[*]", names
+
+
 def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, steady=None,
-                  pair_args="", fix_args=""):
+                  pair_args="", fix_args="", diameters=False):
     """LAMMPS commands that read a tissue and relax it to steady state at ``dryness``.
 
     The run stops when the pressure residual and the largest bead speed are both below
     the ``steady`` thresholds (checked every ``steady['every']`` steps) or after
-    ``steady['max_steps']`` steps."""
+    ``steady['max_steps']`` steps. ``dump``: file for the final state (and, with
+    ``dump_every``, a trajectory ``<dump>.traj``). ``diameters``: the data file has a
+    ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter."""
     st = dict(STEADY_DEFAULTS, **(steady or {}))
+    compute, columns, names = dump_columns()
     lines = [
         "units si",
         "dimension 2",
@@ -47,7 +63,15 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         "atom_style cgms",
         "atom_modify map array",
         "comm_modify vel yes",
-        f"read_data {data}",
+    ]
+    if diameters:
+        lines += ["fix diam all property/atom d_diameter",
+                  f"read_data {data} fix diam NULL Diameters",
+                  "variable diameter atom d_diameter"]
+        fix_args = f"diameter v_diameter {fix_args}"
+    else:
+        lines += [f"read_data {data}"]
+    lines += [
         "neighbor 1.5e-5 bin",
         "neigh_modify every 1 delay 0 check yes",
         f"pair_style cgms {pair_args}",
@@ -58,26 +82,22 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         f"timestep {dt}",
         f"variable steady equal (f_fluid[1]<{st['residual']})&&(f_fluid[3]<{st['speed']})",
         f"fix halt all halt {st['every']} v_steady > 0.5 error continue",
-        "compute cell all property/atom mf rho pressure nneigh side area perim dmdt",
+        compute,
         "thermo_style custom step time f_fluid[1] f_fluid[2] f_fluid[3] f_fluid[4]",
         "thermo_modify norm no",
         f"thermo {st['every'] * 10}",
     ]
-    if dump:
-        lines += [
-            f"dump tissue all custom {dump_every or st['every'] * 10} {dump} id type x y vx vy c_cell[*]",
-            "dump_modify tissue sort id colname c_cell[1] mf colname c_cell[2] rho "
-            "colname c_cell[3] pressure colname c_cell[4] nneigh colname c_cell[5] side "
-            "colname c_cell[6] area colname c_cell[7] perim colname c_cell[8] dmdt",
-        ]
+    if dump and dump_every:
+        lines += [f"dump traj all custom {dump_every} {dump}.traj {columns}",
+                  f"dump_modify traj sort id {names}"]
     lines += [f"run {st['max_steps']}"]
+    if dump:
+        lines += [f"write_dump all custom {dump} {columns} modify sort id {names}"]
     return "\n".join(lines) + "\n"
 
 
 def steady_state(lmp):
     """Positions (sorted by id) and the fix outputs after a run of :func:`tissue_script`."""
-    import numpy as np
-
     nlocal = lmp.extract_global("nlocal")
     ids = np.array(lmp.numpy.extract_atom("id")[:nlocal])
     order = np.argsort(ids)
