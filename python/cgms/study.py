@@ -95,12 +95,16 @@ def target_moisture(data, material, target, out, xtol=1e-3, **kwargs):
     from scipy.optimize import brentq
 
     evaluations = []
+    reached = {}
 
     def miss(s):
-        result = relax(data, material, round(s, 6), Path(out) / f"eval{len(evaluations):02d}",
-                       **kwargs)
-        evaluations.append((result["dryness"], result["moisture"]))
-        return result["moisture"] - target
+        s = round(s, 6)
+        if s not in reached:    # brentq asks again for the bracket ends
+            result = relax(data, material, s, Path(out) / f"eval{len(evaluations):02d}",
+                           **kwargs)
+            reached[s] = result["moisture"]
+            evaluations.append((s, result["moisture"]))
+        return reached[s] - target
 
     lo, hi = target, 1.0
     if miss(lo) > 0:

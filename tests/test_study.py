@@ -1,0 +1,49 @@
+"""Steady-state sweeps: results, resuming, normalisation, target moisture, no overwriting."""
+
+import numpy as np
+import pytest
+
+from cgms import cli, study, tissue
+from cgmstest import APPLE, MAT
+
+STEADY = dict(residual=1e-3, speed=1e-3, max_steps=200000)
+
+
+@pytest.fixture
+def small_tissue(tmp_path):
+    xy = tissue.rectangle(0.9e-3, 0.8e-3, MAT["x_ref"])
+    tissue.write_data(tmp_path / "tissue.data", xy, 3 * MAT["x_ref"])
+    return tmp_path / "tissue.data"
+
+
+def test_sweep_resumes_and_normalises(small_tissue, tmp_path, monkeypatch):
+    out = tmp_path / "sweep"
+    results = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False,
+                          steady=STEADY)
+    assert [r["dryness"] for r in results] == [1.0, 0.4]
+    assert all(r["converged"] for r in results)
+    rows = study.table(results)
+    assert rows[0]["A/A0"] == rows[0]["P/P0"] == rows[0]["EL/EL0"] == 1.0
+    # dried tissue: less water, smaller and shorter outline
+    assert rows[1]["X/X0"] < 0.4 and rows[1]["A/A0"] < 0.9 and rows[1]["P/P0"] < 0.97
+    # a second sweep reads the finished levels back and runs nothing
+    monkeypatch.setattr(study, "relax", lambda *a, **k: pytest.fail("level run again"))
+    again = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False)
+    assert np.array_equal(again[1]["xy"], results[1]["xy"])
+    assert again[1]["moisture"] == results[1]["moisture"]
+
+
+def test_target_moisture_lands_on_target(small_tissue, tmp_path):
+    found = study.target_moisture(small_tissue, APPLE, 0.6, tmp_path / "t", xtol=2e-3,
+                                  steady=STEADY)
+    assert 0.6 < found["initial"] < 1.0
+    check = study.relax(small_tissue, APPLE, round(found["initial"], 4), tmp_path / "check",
+                        steady=STEADY)
+    assert abs(check["moisture"] - 0.6) < 5e-3, (found, check["moisture"])
+
+
+def test_results_folder_is_never_reused(tmp_path):
+    (tmp_path / "keep.txt").write_text("user data")
+    with pytest.raises(SystemExit, match="not empty"):
+        cli.new_folder(tmp_path, "study")
+    assert (tmp_path / "keep.txt").read_text() == "user data"
