@@ -59,7 +59,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     lines = [
         "units si",
         "dimension 2",
-        "boundary f f p",
+        "boundary s s p",  # shrink-wrapped: a fresh tissue swells, a dried one shrinks
         "atom_style cgms",
         "atom_modify map array",
         "comm_modify vel yes",
@@ -84,7 +84,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         f"fix halt all halt {st['every']} v_steady > 0.5 error continue",
         compute,
         "thermo_style custom step time f_fluid[1] f_fluid[2] f_fluid[3] f_fluid[4]",
-        "thermo_modify norm no",
+        "thermo_modify norm no flush yes",
         f"thermo {st['every'] * 10}",
     ]
     if dump and dump_every:
