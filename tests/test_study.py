@@ -47,3 +47,25 @@ def test_results_folder_is_never_reused(tmp_path):
     with pytest.raises(SystemExit, match="not empty"):
         cli.new_folder(tmp_path, "study")
     assert (tmp_path / "keep.txt").read_text() == "user data"
+
+
+def test_quasistatic_state_is_a_steady_state_of_the_dynamics(small_tissue, tmp_path):
+    """MODEL.md 8: at steady state P = -Pi, so the geometry solves the force balance with
+    the pressures fixed. The FIRE solution must be at rest under the full dynamics (mass
+    transfer, damping, everything): started there, the beads must not move."""
+    qs = study.relax(small_tissue, APPLE, 0.4, tmp_path / "qs", method="quasistatic")
+    assert qs["converged"] and qs["residual"] < 1e-9
+    start = tmp_path / "from_qs.data"
+    tissue.write_data(start, qs["xy"], 5 * MAT["x_ref"])
+    dyn = study.relax(start, APPLE, 0.4, tmp_path / "dyn",
+                      steady=dict(residual=1e-12, speed=1e-12, max_steps=50000))
+    moved = np.abs(dyn["xy"] - qs["xy"]).max() / MAT["x_ref"]
+    assert moved < 1e-3, moved
+    assert abs(dyn["moisture"] - qs["moisture"]) < 1e-4
+    # and the dynamics from the built lattice heads there: closer with a tighter threshold
+    loose = study.relax(small_tissue, APPLE, 0.4, tmp_path / "loose",
+                        steady=dict(residual=1e-3, speed=1e-3, max_steps=400000))
+    tight = study.relax(small_tissue, APPLE, 0.4, tmp_path / "tight",
+                        steady=dict(residual=1e-5, speed=1e-5, max_steps=2000000))
+    gap = [np.abs(r["xy"] - qs["xy"]).max() for r in (loose, tight)]
+    assert gap[1] < gap[0], gap

@@ -53,7 +53,7 @@ def dry(out, name, width_mm, height_mm, mat_file, levels, args):
     info = build(folder, width_mm, height_mm, mat, args.cv, args.seed)
     print(f"cgms: {name}: {info['n']} beads ({width_mm} x {height_mm} mm)", flush=True)
     results = study.sweep(info["data"], mat_file, folder, levels, progress=sys.stderr.isatty(),
-                          diameters=info["diameters"],
+                          diameters=info["diameters"], method=args.method,
                           steady=dict(residual=args.residual, speed=args.speed,
                                       max_steps=args.max_steps))
     rows = study.table(results)
@@ -75,11 +75,12 @@ def dry(out, name, width_mm, height_mm, mat_file, levels, args):
 
 
 def print_table(rows):
-    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0   steps  converged")
+    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0  steps*  converged")
     for r in rows:
         print(f"  {r['tissue']:12s} {r['beads']:6d}  {r['s']:4.2f}  {r['X/X0']:.4f}  "
               f"{r['A/A0']:.4f}  {r['P/P0']:.4f}  {r['EL/EL0']:.4f}  {r['steps']:6d}  "
               f"{'yes' if r['converged'] else 'NO'}")
+    print("  * time steps (dynamics) or minimiser iterations (quasistatic)")
 
 
 def main_job(args):
@@ -117,7 +118,7 @@ def target_job(args):
     mat = material.read(mat_file)
     info = build(out, args.width, args.height, mat, args.cv, args.seed)
     result = study.target_moisture(info["data"], mat_file, args.target, out, xtol=args.xtol,
-                                   diameters=info["diameters"])
+                                   diameters=info["diameters"], method=args.method)
     for s, x in result["evaluations"]:
         print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
     print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
@@ -140,7 +141,12 @@ def parser():
         q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
         q.add_argument("--residual", type=float, default=1e-3, help="steady-state residual")
         q.add_argument("--speed", type=float, default=1e-3, help="steady-state speed, m/s")
-        q.add_argument("--max-steps", type=int, default=400000, help="step limit per level")
+        q.add_argument("--max-steps", type=int, default=2000000,
+                       help="step (or minimiser iteration) limit per level")
+        q.add_argument("--method", choices=("quasistatic", "dynamics"), default="quasistatic",
+                       help="solve for the steady state directly: P = -Pi and FIRE "
+                            "minimisation (default; MODEL.md 8), or follow the dynamics until "
+                            "the --residual and --speed thresholds hold (the paper's way)")
 
     m = sub.add_parser("main", help="the microscale study (six tissues, five levels)")
     common(m, width=False)

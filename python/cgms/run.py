@@ -46,14 +46,19 @@ def dump_columns():
 
 
 def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, steady=None,
-                  pair_args="", fix_args="", diameters=False):
+                  pair_args="", fix_args="", diameters=False, method="dynamics", ftol=1e-13):
     """LAMMPS commands that read a tissue and relax it to steady state at ``dryness``.
 
     The run stops when the pressure residual and the largest bead speed are both below
     the ``steady`` thresholds (checked every ``steady['every']`` steps) or after
     ``steady['max_steps']`` steps. ``dump``: file for the final state (and, with
     ``dump_every``, a trajectory ``<dump>.traj``). ``diameters``: the data file has a
-    ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter."""
+    ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter.
+
+    ``method="quasistatic"`` solves for the steady state directly (MODEL.md 8): every bead
+    holds P = -Pi (fix cgms/fluid's ``minimize balance``) and FIRE minimisation moves the
+    beads until the largest force on any bead is below ``ftol`` (N), with damping off;
+    ``steady['max_steps']`` bounds the iterations."""
     st = dict(STEADY_DEFAULTS, **(steady or {}))
     compute, columns, names = dump_columns()
     lines = [
@@ -74,14 +79,12 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     lines += [
         "neighbor 1.5e-5 bin",
         "neigh_modify every 1 delay 0 check yes",
-        f"pair_style cgms {pair_args}",
+        f"pair_style cgms {pair_args}" + (" damping no" if method == "quasistatic" else ""),
         f"pair_coeff * * {material}",
         f"fix fluid all cgms/fluid dryness {dryness} {fix_args}",
         "fix nve all nve",
         "fix 2d all enforce2d",
         f"timestep {dt}",
-        f"variable steady equal (f_fluid[1]<{st['residual']})&&(f_fluid[3]<{st['speed']})",
-        f"fix halt all halt {st['every']} v_steady > 0.5 error continue",
         compute,
         "thermo_style custom step time f_fluid[1] f_fluid[2] f_fluid[3] f_fluid[4]",
         "thermo_modify norm no flush yes",
@@ -90,7 +93,17 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     if dump and dump_every:
         lines += [f"dump traj all custom {dump_every} {dump}.traj {columns}",
                   f"dump_modify traj sort id {names}"]
-    lines += [f"run {st['max_steps']}"]
+    if method == "quasistatic":
+        # dmax: LAMMPS measures it in length units, 0.1 m by default; a cell is 1.5e-4 m
+        lines += ["min_style fire", "min_modify norm max dmax 1e-6",
+                  f"minimize 0.0 {ftol} {st['max_steps']} {10 * st['max_steps']}"]
+    elif method == "dynamics":
+        lines += [
+            f"variable steady equal (f_fluid[1]<{st['residual']})&&(f_fluid[3]<{st['speed']})",
+            f"fix halt all halt {st['every']} v_steady > 0.5 error continue",
+            f"run {st['max_steps']}"]
+    else:
+        raise ValueError(f"method must be 'dynamics' or 'quasistatic', not {method!r}")
     if dump:
         lines += [f"write_dump all custom {dump} {columns} modify sort id {names}"]
     return "\n".join(lines) + "\n"

@@ -21,7 +21,7 @@ def level_name(s):
 
 
 def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, pair_args="",
-          fix_args="", dump_every=None):
+          fix_args="", dump_every=None, method="dynamics"):
     """Relax the tissue in ``data`` to steady state at ``dryness``; write the final dump and
     the log into ``out`` and return the result (positions, X/X0 reached, steps, ...)."""
     out = Path(out)
@@ -33,12 +33,12 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
         lmp.commands_string(run.tissue_script(
             Path(data).resolve(), Path(material).resolve(), dryness,
             dump=(out / f"tissue.{name}.dump").resolve(), dump_every=dump_every, steady=steady,
-            diameters=diameters, dt=dt, pair_args=pair_args, fix_args=fix_args))
+            diameters=diameters, dt=dt, pair_args=pair_args, fix_args=fix_args, method=method))
         state = run.steady_state(lmp)
     finally:
         lmp.close()
     max_steps = dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"]
-    state.update(dryness=dryness, seconds=time.perf_counter() - start,
+    state.update(dryness=dryness, seconds=time.perf_counter() - start, method=method,
                  converged=bool(state["steps"] < max_steps))
     return state
 
@@ -76,7 +76,8 @@ def table(results):
         rows.append({"s": r["dryness"], "X/X0": r["moisture"], **norm, "area": m["area"],
                      "perimeter": m["perimeter"], "elongation": m["elongation"],
                      "steps": r["steps"], "residual": r["residual"], "speed": r["speed"],
-                     "converged": r["converged"], "seconds": r["seconds"]})
+                     "method": r.get("method", "dynamics"), "converged": r["converged"],
+                     "seconds": r["seconds"]})
     return rows
 
 

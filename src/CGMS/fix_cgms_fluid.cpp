@@ -53,8 +53,8 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
-    transfer_implicit(1), allow_isolated(0), comm_column(COEF), work(nullptr), nmax_work(0),
-    vector_step(-1)
+    transfer_implicit(1), minimize_balance(1), allow_isolated(0), comm_column(COEF), work(nullptr),
+    nmax_work(0), vector_step(-1)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -111,6 +111,13 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR,
                    "Fix cgms/fluid transfer/scheme must be 'implicit' or 'explicit', not '{}'",
                    val);
+    } else if (key == "minimize") {
+      if (strcmp(val, "balance") == 0)
+        minimize_balance = 1;
+      else if (strcmp(val, "state") == 0)
+        minimize_balance = 0;
+      else
+        error->all(FLERR, "Fix cgms/fluid minimize must be 'balance' or 'state', not '{}'", val);
     } else if (key == "isolated") {
       if (strcmp(val, "error") == 0)
         allow_isolated = 0;
@@ -122,7 +129,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
       error->all(
           FLERR,
           "Unknown fix cgms/fluid keyword '{}' (known: dryness diameter every density inertia "
-          "transfer transfer/scheme isolated)",
+          "transfer transfer/scheme minimize isolated)",
           key);
     }
     iarg += 2;
@@ -461,6 +468,10 @@ void FixCGMSFluid::update_fluid_state(int advance)
   const double perim_slope = mat.perim_a / mat.perim_b;
   const double kd_dt = pair->damping ? 1.5 * mat.k_d * dt : 0.0;
   const int advance_mass = advance && transfer;
+  // the quasi-static solve: under minimize every bead holds the pressure of
+  // the steady state, P = -Pi (MODEL.md 8), its density from eqn (4) and the
+  // fluid mass that density fills its current cell with
+  const int balance = minimize_balance && update->whichflag == 2;
   double *rmass = atom->rmass;
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1;
 
@@ -501,7 +512,11 @@ void FixCGMSFluid::update_fluid_state(int advance)
     const double perim = 6.0 * b;
 
     double rho;
-    if (density_rate && c[AREA] > 0.0) {
+    if (balance) {
+      const double q7_balance = 1.0 + (-Pi - P_ref) / K;
+      rho = pow(q7_balance, 1.0 / 7.0) / inv_rho_ref;
+      c[MF] = rho * mat.height * area;
+    } else if (density_rate && c[AREA] > 0.0) {
       if (advance) {
         const double inv_area_old = 1.0 / c[AREA];
         rho =
@@ -523,7 +538,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
     // lambda = -d(dm_f/dt)/dm_f = L_p (l/A) (P + Pi + 7 K q^7) when positive
     // (d rho/d m_f = rho/m_f at fixed geometry, dP/d rho = 7 K q^6 / rho_ref)
     double dmdt = 0.0;
-    if (transfer) {
+    if (transfer && !balance) {
       dmdt = -perim * conductance * rho * (press + Pi);
       if (transfer_implicit) {
         const double lambda = L_p * perim * inv_area * (press + Pi + 7.0 * K * q7);
