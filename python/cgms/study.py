@@ -35,6 +35,12 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
             dump=(out / f"tissue.{name}.dump").resolve(), dump_every=dump_every, steady=steady,
             diameters=diameters, dt=dt, pair_args=pair_args, fix_args=fix_args, method=method))
         state = run.steady_state(lmp)
+    except Exception as err:
+        hint = (" The quasi-static solve (FIRE) is not guaranteed for CGMS's non-gradient "
+                "forces and can diverge on large tissues; try --method dynamics."
+                if method == "quasistatic" else "")
+        raise RuntimeError(f"s = {dryness:g}: LAMMPS stopped: {err} (log: "
+                           f"{out / f'log.{name}.lammps'}).{hint}") from err
     finally:
         lmp.close()
     max_steps = dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"]
