@@ -105,3 +105,22 @@ def test_per_bead_cell_diameter(tmp_path):
     assert_close("mf0", col["mf0"], MAT["rho0"] * MAT["height"] * area, rtol=1e-14)
     assert_close("l0p", col["l0p"], MAT["turgid_ratio"] * 6 * side, rtol=1e-14)
     assert_close("mf", col["mf"], 0.8 * col["mf0"], rtol=1e-14)
+
+
+def test_balance_holds_steady_state_pressure(tmp_path):
+    """'balance yes' (and 'minimize balance' under minimize): every bead at P = -Pi, no
+    mass rate, and the fluid mass that fills its current cell at that density."""
+    make_tissue(tmp_path, jitter=0.05, seed=2, s=(0.3, 1.0))
+    lmp = new_lammps()
+    try:
+        with working_directory(tmp_path):
+            lmp.commands_string(header() + physics(fix_args="balance yes") + "run 0\n")
+            nlocal = lmp.extract_global("nlocal")
+            cg = np.array(lmp.numpy.extract_fix("fl", LMP_STYLE_ATOM, LMP_TYPE_ARRAY))[:nlocal]
+    finally:
+        lmp.close()
+    col = {name: cg[:, k] for k, name in enumerate(COLUMNS)}
+    assert_close("pressure", col["pressure"], -col["dryness"] * MAT["Pi_f"], rtol=1e-12)
+    assert np.all(col["dmdt"] == 0.0)
+    assert_close("mf", col["mf"], col["rho"] * MAT["height"] * col["area"], rtol=1e-14)
+    assert_close("rho", col["rho"], col["dryness"] * MAT["rho0"], rtol=1e-12)

@@ -53,8 +53,8 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
-    transfer_implicit(1), minimize_balance(1), allow_isolated(0), comm_column(COEF), work(nullptr),
-    nmax_work(0), vector_step(-1)
+    transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
+    comm_column(COEF), work(nullptr), nmax_work(0), vector_step(-1)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -118,6 +118,10 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
         minimize_balance = 0;
       else
         error->all(FLERR, "Fix cgms/fluid minimize must be 'balance' or 'state', not '{}'", val);
+    } else if (key == "balance") {
+      // P = -Pi in every force evaluation, also in runs: for external steady-state
+      // solvers that drive LAMMPS with "run 0" (cgms.quasistatic)
+      always_balance = utils::logical(FLERR, val, false, lmp);
     } else if (key == "isolated") {
       if (strcmp(val, "error") == 0)
         allow_isolated = 0;
@@ -129,7 +133,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
       error->all(
           FLERR,
           "Unknown fix cgms/fluid keyword '{}' (known: dryness diameter every density inertia "
-          "transfer transfer/scheme minimize isolated)",
+          "transfer transfer/scheme minimize balance isolated)",
           key);
     }
     iarg += 2;
@@ -471,7 +475,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
   // the quasi-static solve: under minimize every bead holds the pressure of
   // the steady state, P = -Pi (MODEL.md 8), its density from eqn (4) and the
   // fluid mass that density fills its current cell with
-  const int balance = minimize_balance && update->whichflag == 2;
+  const int balance = always_balance || (minimize_balance && update->whichflag == 2);
   double *rmass = atom->rmass;
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1;
 

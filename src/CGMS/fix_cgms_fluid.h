@@ -48,6 +48,7 @@ class FixCGMSFluid : public Fix {
   int inertia_fluid;        // 1: rmass = m_f + m_s (paper); 0: fresh mass (stable default)
   int transfer;             // mass transfer on/off
   int transfer_implicit;    // 1: linearised backward Euler; 0: explicit Euler (paper)
+  int always_balance;       // 1: P = -Pi in runs too (external quasi-static solvers)
   int minimize_balance;     // 1: under minimize, P = -Pi (quasi-static solve); 0: from m_f
   int allow_isolated;       // a bead without neighbours: error (0) or reference cell (1)
 
