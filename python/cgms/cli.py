@@ -126,6 +126,27 @@ def target_job(args):
     return 0
 
 
+def sensitivity_job(args):
+    """The paper's section 4.4 on the 86-bead tissue: table, plot."""
+    from . import sensitivity
+
+    out = new_folder(args.out, "sensitivity")
+    mat_file = material.find(args.material)
+    info = build(out, *MICROSCALE["calibration"], material.read(mat_file))
+    print(f"cgms: sensitivity study on the {info['n']}-bead tissue; results in {out}", flush=True)
+    rows = sensitivity.run(info["data"], mat_file, out)
+    done = [r for r in rows if "failed" not in r]
+    study.write_csv(done, out / "sensitivity.csv")
+    failed = [r for r in rows if "failed" in r]
+    if failed:
+        (out / "failed.txt").write_text(
+            "".join(f"{r['parameter']} x {r['factor']}: {r['failed']}\n" for r in failed))
+    plots.sensitivity(done, out / "sensitivity.png")
+    print(f"cgms: table {out}/sensitivity.csv, plot {out}/sensitivity.png"
+          + (f", failed settings {out}/failed.txt" if failed else ""))
+    return 0
+
+
 def parser():
     p = argparse.ArgumentParser(prog="cgms", description=__doc__)
     sub = p.add_subparsers(dest="command", required=True)
@@ -159,6 +180,11 @@ def parser():
     s.add_argument("--dryness", default=DEFAULT_LEVELS, help=f"levels (default {DEFAULT_LEVELS})")
     s.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
     s.set_defaults(func=study_job)
+
+    v = sub.add_parser("sensitivity", help="the paper's sensitivity study (k_T, k_PA, beta)")
+    v.add_argument("--out", help="results folder (default results/sensitivity/<date-time>)")
+    v.add_argument("--material", default="apple", help="material file (default apple)")
+    v.set_defaults(func=sensitivity_job)
 
     t = sub.add_parser("target", help="initial dryness whose steady state reaches X/X0")
     common(t)

@@ -48,3 +48,24 @@ def snapshots(panels, path, label, cmap="viridis", outlines=None):
     fig.colorbar(sc, ax=axes[0].tolist(), label=label, shrink=0.8)
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def sensitivity(rows, path, level=0.3):
+    """A/A0, P/P0, EL/EL0 at one dryness against the factor on each parameter (like the
+    paper's Figs 11, 13 and 15, at their driest level)."""
+    params = list(dict.fromkeys(r["parameter"] for r in rows))
+    fig, axes = plt.subplots(3, len(params), figsize=(3.6 * len(params), 7.5),
+                             constrained_layout=True, squeeze=False)
+    for j, param in enumerate(params):
+        sel = [r for r in rows if r["parameter"] == param and r.get("s") == level]
+        labels = [r["factor"] for r in sel]
+        for i, key in enumerate(("A/A0", "P/P0", "EL/EL0")):
+            ax = axes[i][j]
+            ax.plot(range(len(sel)), [r[key] for r in sel], "o-")
+            ax.set_xticks(range(len(sel)), labels)
+            ax.set_ylabel(key)
+            ax.grid(alpha=0.3)
+            if i == 0:
+                ax.set_title(f"{param} x factor, s = {level:g}")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

@@ -46,7 +46,8 @@ def dump_columns():
 
 
 def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, steady=None,
-                  pair_args="", fix_args="", diameters=False, method="dynamics", ftol=1e-13):
+                  pair_args="", fix_args="", diameters=False, method="dynamics", ftol=1e-13,
+                  overrides=""):
     """LAMMPS commands that read a tissue and relax it to steady state at ``dryness``.
 
     The run stops when the pressure residual and the largest bead speed are both below
@@ -54,6 +55,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     ``steady['max_steps']`` steps. ``dump``: file for the final state (and, with
     ``dump_every``, a trajectory ``<dump>.traj``). ``diameters``: the data file has a
     ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter.
+    ``overrides``: "name value ..." material parameters that replace the file's.
 
     ``method="quasistatic"`` solves for the steady state directly (MODEL.md 8): every bead
     holds P = -Pi (fix cgms/fluid's ``minimize balance``) and FIRE minimisation moves the
@@ -80,7 +82,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         "neighbor 1.5e-5 bin",
         "neigh_modify every 1 delay 0 check yes",
         f"pair_style cgms {pair_args}" + (" damping no" if method == "quasistatic" else ""),
-        f"pair_coeff * * {material}",
+        f"pair_coeff * * {material} {overrides}",
         f"fix fluid all cgms/fluid dryness {dryness} {fix_args}",
         "fix nve all nve",
         "fix 2d all enforce2d",

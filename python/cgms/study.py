@@ -21,7 +21,7 @@ def level_name(s):
 
 
 def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, pair_args="",
-          fix_args="", dump_every=None, method="dynamics"):
+          fix_args="", dump_every=None, method="dynamics", overrides=""):
     """Relax the tissue in ``data`` to steady state at ``dryness``; write the final dump and
     the log into ``out`` and return the result (positions, X/X0 reached, steps, ...)."""
     out = Path(out)
@@ -33,7 +33,8 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
         lmp.commands_string(run.tissue_script(
             Path(data).resolve(), Path(material).resolve(), dryness,
             dump=(out / f"tissue.{name}.dump").resolve(), dump_every=dump_every, steady=steady,
-            diameters=diameters, dt=dt, pair_args=pair_args, fix_args=fix_args, method=method))
+            diameters=diameters, dt=dt, pair_args=pair_args, fix_args=fix_args, method=method,
+            overrides=overrides))
         state = run.steady_state(lmp)
     except Exception as err:
         hint = (" The quasi-static solve (FIRE) is not guaranteed for CGMS's non-gradient "

@@ -1,0 +1,64 @@
+"""The paper's sensitivity study (section 4.4): the 86-bead tissue, fresh and at s = 0.3,
+with k_T, k_PA and beta scaled. One steady state per setting, normalised by the fresh
+steady state of the same setting."""
+
+from pathlib import Path
+
+from . import material, study
+
+# factor sets of the paper's Figs 10-15; None for beta means "without periphery treatment"
+FACTORS = {
+    "k_T": (0.1, 0.5, 1.0, 5.0, 10.0),
+    "k_PA": (0.1, 0.5, 1.0, 10.0, 100.0),
+    "beta": (None, 0.98, 1.0, 1.1, 1.2),
+}
+
+
+def setting_args(mat, parameter, factor):
+    """pair_style keywords and pair_coeff overrides for one setting."""
+    if parameter == "beta":
+        if factor is None:
+            return "periphery no", ""
+        return "", f"beta_a {mat['beta_a'] * factor!r} beta_b {mat['beta_b'] * factor!r}"
+    return "", f"{parameter} {mat[parameter] * factor!r}"
+
+
+def run(data, material_file, out, levels=(1.0, 0.3), method="quasistatic", progress=True):
+    """Every setting at every level; rows of the normalised morphology. A setting whose
+    quasi-static solve fails is followed with the dynamics instead, at dt = 5e-8 s (the row
+    says which)."""
+    mat = material.read(material_file)
+    rows = []
+    for parameter, factors in FACTORS.items():
+        for factor in factors:
+            label = "off" if factor is None else f"{factor:g}"
+            pair_args, overrides = setting_args(mat, parameter, factor)
+            folder = Path(out) / f"{parameter}-{label}"
+            results, failure = [], ""
+            for s in levels:
+                kwargs = dict(pair_args=pair_args, overrides=overrides, method=method)
+                try:
+                    r = study.relax(data, material_file, s, folder, **kwargs)
+                except RuntimeError:
+                    # extreme settings crowd beads (8 neighbours): half the time step keeps
+                    # the damping inside its stability limit
+                    kwargs.update(method="dynamics", dt=5e-8, steady=dict(max_steps=4000000))
+                    try:
+                        r = study.relax(data, material_file, s, folder / "dynamics", **kwargs)
+                    except RuntimeError as err:
+                        failure = str(err).split("LAMMPS stopped: ")[-1].split(" (log")[0]
+                        break
+                results.append(r)
+            if failure:
+                rows.append({"parameter": parameter, "factor": label, "failed": failure})
+                if progress:
+                    print(f"  {parameter:5s} x {label:4s}: no steady state: {failure}", flush=True)
+                continue
+            for row in study.table(results):
+                rows.append({"parameter": parameter, "factor": label, **row})
+            if progress:
+                last = rows[-1]
+                print(f"  {parameter:5s} x {label:4s}: s = {last['s']:g}: A/A0 {last['A/A0']:.4f} "
+                      f"P/P0 {last['P/P0']:.4f} EL/EL0 {last['EL/EL0']:.4f} "
+                      f"({last['method']})", flush=True)
+    return rows
