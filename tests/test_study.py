@@ -69,3 +69,13 @@ def test_quasistatic_state_is_a_steady_state_of_the_dynamics(small_tissue, tmp_p
                         steady=dict(residual=1e-5, speed=1e-5, max_steps=2000000))
     gap = [np.abs(r["xy"] - qs["xy"]).max() for r in (loose, tight)]
     assert gap[1] < gap[0], gap
+
+
+def test_sensitivity_settings_scale_the_named_parameter():
+    from cgms import sensitivity
+    mat = {"k_T": 1e-10, "k_PA": 2.0, "beta_a": 1.0311, "beta_b": 0.1088}
+    assert sensitivity.setting_args(mat, "k_T", 10.0) == ("", "k_T 1e-09")
+    assert sensitivity.setting_args(mat, "beta", None) == ("periphery no", "")
+    pair, over = sensitivity.setting_args(mat, "beta", 1.1)
+    assert pair == "" and over.split()[0::2] == ["beta_a", "beta_b"]
+    assert float(over.split()[1]) == 1.1 * 1.0311
