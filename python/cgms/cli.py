@@ -1,6 +1,7 @@
 """Command line: ``python3 -m cgms main`` runs the main job (the microscale study);
 ``study`` dries any rectangular tissue over moisture levels; ``target`` finds the initial
-dryness that reaches a given moisture."""
+dryness that reaches a given moisture; ``calibrate`` fits material parameters to reference
+centroid positions (eqn 2); ``sensitivity`` runs the paper's sensitivity study."""
 
 import argparse
 import sys
@@ -9,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import material, morphology, plots, study, tissue
+from . import calibrate, material, morphology, plots, study, tissue
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
 
@@ -147,6 +148,12 @@ def sensitivity_job(args):
     return 0
 
 
+def calibrate_job(args):
+    """Fit k_T, k_PA, beta (or other parameters) to reference centroids by eqn (2): fitted
+    values, RMSD per level, a new material file (doc/calibration.md)."""
+    return calibrate.job(args)
+
+
 def parser():
     p = argparse.ArgumentParser(prog="cgms", description=__doc__)
     sub = p.add_subparsers(dest="command", required=True)
@@ -185,6 +192,10 @@ def parser():
     v.add_argument("--out", help="results folder (default results/sensitivity/<date-time>)")
     v.add_argument("--material", default="apple", help="material file (default apple)")
     v.set_defaults(func=sensitivity_job)
+
+    c = sub.add_parser("calibrate", help="fit k_T, k_PA, beta to reference centroids (eqn 2)")
+    calibrate.add_arguments(c)
+    c.set_defaults(func=calibrate_job)
 
     t = sub.add_parser("target", help="initial dryness whose steady state reaches X/X0")
     common(t)
