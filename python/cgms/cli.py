@@ -143,7 +143,25 @@ def sensitivity_job(args):
         (out / "failed.txt").write_text(
             "".join(f"{r['parameter']} x {r['factor']}: {r['failed']}\n" for r in failed))
     plots.sensitivity(done, out / "sensitivity.png")
-    print(f"cgms: table {out}/sensitivity.csv, plot {out}/sensitivity.png"
+    # snapshots like the paper's Figs 10, 12 and 14: the dried tissue of every setting,
+    # coloured by its local shrinkage from its own fresh state
+    for parameter in sensitivity.FACTORS:
+        panels = []
+        setting = [r for r in done if r["parameter"] == parameter]
+        for r in (r for r in setting if r["s"] == 0.3):
+            def final(s):
+                row = next(q for q in setting if q["factor"] == r["factor"] and q["s"] == s)
+                folder = out / f"{parameter}-{r['factor']}"
+                folder = folder / "dynamics" if row["method"] == "dynamics" else folder
+                return morphology.read_dump(folder / f"tissue.s{s:g}.dump", engine="numpy")[-1]
+            dry, fresh = final(0.3), final(1.0)
+            panels.append((f"{parameter} x {r['factor']}", dry["xy"],
+                           morphology.shrinkage(dry["xy"], fresh["xy"])))
+        if panels:
+            plots.snapshots(panels, out / f"snapshots-{parameter}.png",
+                            "local area shrinkage (s = 0.3)", cmap="magma")
+    print(f"cgms: table {out}/sensitivity.csv, plots {out}/sensitivity.png and "
+          f"{out}/snapshots-*.png"
           + (f", failed settings {out}/failed.txt" if failed else ""))
     return 0
 
