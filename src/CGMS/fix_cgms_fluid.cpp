@@ -477,7 +477,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
   // fluid mass that density fills its current cell with
   const int balance = always_balance || (minimize_balance && update->whichflag == 2);
   double *rmass = atom->rmass;
-  int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1;
+  int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1;
+  double stiff_ratio = 0.0, stiff_limit = 0.0;
 
   double s_prev = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
   for (int i = 0; i < nlocal; i++) {
@@ -560,7 +561,23 @@ void FixCGMSFluid::update_fluid_state(int advance)
     c[DMDT] = dmdt;
     c[COEF] = coef[i] = 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
     if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
-    // damping stability (see check_damping_limit): the smallest m / N fails first
+    // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
+    // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
+    // (reduced mass m/2) that gives omega^2 = 56 k_T K q^7 / (m sum_k (x_k - d_p)), and
+    // the explicit update needs omega dt < 2. The estimate is rough: a squeezed pair at
+    // omega dt = 2.8 relaxes before it can blow up, so the run stops only past 4, which
+    // the blow-ups seen (a pair squeezed to 0.4 x_ref, a dryness jump) reach within a step.
+    // Not under a quasi-static solve: there the pressure does not follow the geometry.
+    if (kT > 0.0 && nn > 0.0 && !balance) {
+      const double omega2 = 56.0 * kT * K * q7 / (rmass[i] * (sums[2 * i + 1] - nn * pectin));
+      const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
+      if (ratio > 4.0 && ratio > stiff_ratio) {
+        stiff = i;
+        stiff_ratio = ratio;
+        stiff_limit = 2.0 / sqrt(omega2);
+      }
+    }
+    // damping stability (see damping_limit_error): the smallest m / N fails first
     if (kd_dt * nn > 2.0 * rmass[i] &&
         (unstable < 0 || rmass[i] * cg[unstable][NNEIGH] < rmass[unstable] * nn))
       unstable = i;
@@ -582,6 +599,15 @@ void FixCGMSFluid::update_fluid_state(int advance)
                "became unstable; reduce the time step (now {:.6g} s)",
                atom->tag[nonfinite], update->ntimestep, dt);
   if (unstable >= 0) damping_limit_error(unstable);
+  if (stiff >= 0)
+    error->one(
+        FLERR,
+        "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the turgor "
+        "force at step {}, about {:.4g} s = 2 / omega (omega dt = {:.3g}) for bead {}, whose "
+        "fluid is compressed to {:.4g} times its reference density: use a smaller "
+        "timestep",
+        dt, update->ntimestep, stiff_limit, 2.0 * sqrt(stiff_ratio), atom->tag[stiff],
+        cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0));
 
   if (pair->pair_coefficient_needed()) forward(COEF);
 }
@@ -600,6 +626,15 @@ void FixCGMSFluid::damping_limit_error(int i)
 {
   const double m = atom->rmass[i];
   const double nn = store(lmp).cgms[i][NNEIGH];
+  // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
+  // second-shell bead crossed the cutoff), which a smaller time step does not cure
+  if (nn > 6.0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has {:g} neighbours within the cutoff at step {}, more "
+               "than the 6 of a hexagonal tissue: the tissue is collapsing (beads crowding "
+               "past the weak LJ repulsion), and the damping is unstable at dt = {:.4g} s; a "
+               "smaller time step does not cure this (doc/validation.md, hard cases)",
+               atom->tag[i], nn, update->ntimestep, update->dt);
   error->one(FLERR,
              "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
              "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
