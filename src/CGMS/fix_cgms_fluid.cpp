@@ -477,6 +477,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
   // fluid mass that density fills its current cell with
   const int balance = always_balance || (minimize_balance && update->whichflag == 2);
   double *rmass = atom->rmass;
+  const int turgor_check = kT > 0.0 && !balance;
+  const double turgor_dt2 = 56.0 * kT * K * dt * dt;
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1;
   double stiff_ratio = 0.0, stiff_limit = 0.0;
 
@@ -568,13 +570,17 @@ void FixCGMSFluid::update_fluid_state(int advance)
     // omega dt = 2.8 relaxes before it can blow up, so the run stops only past 4, which
     // the blow-ups seen (a pair squeezed to 0.4 x_ref, a dryness jump) reach within a step.
     // Not under a quasi-static solve: there the pressure does not follow the geometry.
-    if (kT > 0.0 && nn > 0.0 && !balance) {
-      const double omega2 = 56.0 * kT * K * q7 / (rmass[i] * (sums[2 * i + 1] - nn * pectin));
-      const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
-      if (ratio > 4.0 && ratio > stiff_ratio) {
-        stiff = i;
-        stiff_ratio = ratio;
-        stiff_limit = 2.0 / sqrt(omega2);
+    if (turgor_check && nn > 0.0) {
+      // (omega dt)^2 > 16 without a division in the common case
+      const double sum_gap = sums[2 * i + 1] - nn * pectin;
+      if (turgor_dt2 * q7 > 16.0 * rmass[i] * sum_gap) {
+        const double omega2 = 56.0 * kT * K * q7 / (rmass[i] * sum_gap);
+        const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
+        if (ratio > stiff_ratio) {
+          stiff = i;
+          stiff_ratio = ratio;
+          stiff_limit = 2.0 / sqrt(omega2);
+        }
       }
     }
     // damping stability (see damping_limit_error): the smallest m / N fails first
