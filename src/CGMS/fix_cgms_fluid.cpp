@@ -46,6 +46,19 @@ static const struct InverseCounts {
 } INV_SQRT3_N;
 
 /* ----------------------------------------------------------------------
+   a keyword with two values: 0 for the first, 1 for the second (the error
+   lists them in this order)
+------------------------------------------------------------------------- */
+
+int FixCGMSFluid::choice(const std::string &key, const char *val, const char *zero, const char *one)
+{
+  if (strcmp(val, zero) == 0) return 0;
+  if (strcmp(val, one) == 0) return 1;
+  error->all(FLERR, "Fix cgms/fluid {} must be '{}' or '{}', not '{}'", key, zero, one, val);
+  return 0;
+}
+
+/* ----------------------------------------------------------------------
    fix ID all cgms/fluid keyword value ...
 ------------------------------------------------------------------------- */
 
@@ -87,48 +100,21 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
       dryness_every = utils::inumeric(FLERR, val, false, lmp);
       if (dryness_every < 0) error->all(FLERR, "Fix cgms/fluid every must be >= 0");
     } else if (key == "density") {
-      if (strcmp(val, "exact") == 0)
-        density_rate = 0;
-      else if (strcmp(val, "rate") == 0)
-        density_rate = 1;
-      else
-        error->all(FLERR, "Fix cgms/fluid density must be 'exact' or 'rate', not '{}'", val);
+      density_rate = choice(key, val, "exact", "rate");
     } else if (key == "inertia") {
-      if (strcmp(val, "fresh") == 0)
-        inertia_fluid = 0;
-      else if (strcmp(val, "fluid") == 0)
-        inertia_fluid = 1;
-      else
-        error->all(FLERR, "Fix cgms/fluid inertia must be 'fresh' or 'fluid', not '{}'", val);
+      inertia_fluid = choice(key, val, "fresh", "fluid");
     } else if (key == "transfer") {
       transfer = utils::logical(FLERR, val, false, lmp);
     } else if (key == "transfer/scheme") {
-      if (strcmp(val, "implicit") == 0)
-        transfer_implicit = 1;
-      else if (strcmp(val, "explicit") == 0)
-        transfer_implicit = 0;
-      else
-        error->all(FLERR,
-                   "Fix cgms/fluid transfer/scheme must be 'implicit' or 'explicit', not '{}'",
-                   val);
+      transfer_implicit = 1 - choice(key, val, "implicit", "explicit");
     } else if (key == "minimize") {
-      if (strcmp(val, "balance") == 0)
-        minimize_balance = 1;
-      else if (strcmp(val, "state") == 0)
-        minimize_balance = 0;
-      else
-        error->all(FLERR, "Fix cgms/fluid minimize must be 'balance' or 'state', not '{}'", val);
+      minimize_balance = 1 - choice(key, val, "balance", "state");
     } else if (key == "balance") {
       // P = -Pi in every force evaluation, also in runs: for external steady-state
-      // solvers that drive LAMMPS with "run 0" (cgms.quasistatic)
+      // solvers that drive LAMMPS with "run 0"
       always_balance = utils::logical(FLERR, val, false, lmp);
     } else if (key == "isolated") {
-      if (strcmp(val, "error") == 0)
-        allow_isolated = 0;
-      else if (strcmp(val, "allow") == 0)
-        allow_isolated = 1;
-      else
-        error->all(FLERR, "Fix cgms/fluid isolated must be 'error' or 'allow', not '{}'", val);
+      allow_isolated = choice(key, val, "error", "allow");
     } else {
       error->all(
           FLERR,

@@ -59,6 +59,7 @@ class FixCGMSFluid : public Fix {
   bigint vector_step;    // step of the cached global outputs
   double vector_cache[4];
 
+  int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
   const double *per_bead_values(int, double);
   void apply_dryness();
