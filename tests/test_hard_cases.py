@@ -384,8 +384,8 @@ STEP_COLLAPSE = (
     "shears (only the weak LJ forces resist shear), a wet bead and a dry bead of the second "
     "shell come within their pair cutoff 1.35 r(s_ik) (1.29 x_ref for s = 1 | 0.2); with "
     "N = 7, eqn (11) adds the whole new distance to b_avg, the cells' areas jump by 39-47 % "
-    "and their perimeter force pulls more beads in; the damping check then stops the run "
-    "blaming the time step (smaller steps collapse further: N = 16 at 5e-8 s)")
+    "and their perimeter force pulls more beads in; the fix stops the run saying the "
+    "tissue is collapsing (smaller steps collapse further: N = 16 at 5e-8 s)")
 
 
 @pytest.mark.xfail(strict=True, reason=STEP_COLLAPSE)
@@ -594,7 +594,7 @@ HETEROGENEOUS_COLLAPSE = (
     "cell forces ~1e-4 N); a bead's distances spread (0.66 ... 1.34 x_ref seen), a "
     "second-shell bead crosses the cutoff (1.35 x_ref, set by the material's mean cell, "
     "not the bead's own), the area jumps by 46 % (eqn 11 with N = 7) and the perimeter "
-    "force pulls more beads in; the damping check stops it blaming the time step (at "
+    "force pulls more beads in; the fix stops it saying the tissue is collapsing (at "
     "1e-8 s the collapse goes on to N = 45)")
 
 
