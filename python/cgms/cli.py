@@ -189,10 +189,12 @@ def parser():
         q.add_argument("--speed", type=float, default=1e-3, help="steady-state speed, m/s")
         q.add_argument("--max-steps", type=int, default=2000000,
                        help="step (or minimiser iteration) limit per level")
-        q.add_argument("--method", choices=("quasistatic", "dynamics"), default="quasistatic",
+        q.add_argument("--method", choices=("quasistatic", "newton", "dynamics"),
+                       default="quasistatic",
                        help="solve for the steady state directly: P = -Pi and FIRE "
-                            "minimisation (default; MODEL.md 8), or follow the dynamics until "
-                            "the --residual and --speed thresholds hold (the paper's way)")
+                            "minimisation (default; MODEL.md 8) or Newton's method (fewer, "
+                            "costlier iterations: doc/performance.md), or follow the dynamics "
+                            "until the --residual and --speed thresholds hold (the paper's way)")
 
     m = sub.add_parser("main", help="the microscale study (six tissues, five levels)")
     common(m, width=False)

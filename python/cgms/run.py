@@ -60,7 +60,9 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     ``method="quasistatic"`` solves for the steady state directly (MODEL.md 8): every bead
     holds P = -Pi (fix cgms/fluid's ``minimize balance``) and FIRE minimisation moves the
     beads until the largest force on any bead is below ``ftol`` (N), with damping off;
-    ``steady['max_steps']`` bounds the iterations."""
+    ``steady['max_steps']`` bounds the iterations. ``method="newton"`` sets up the same
+    problem (``balance yes``, damping off) and stops after ``run 0``: :func:`solve_newton`
+    does the rest, and writes the dump."""
     st = dict(STEADY_DEFAULTS, **(steady or {}))
     compute, columns, names = dump_columns()
     lines = [
@@ -81,14 +83,15 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     lines += [
         "neighbor 1.5e-5 bin",
         "neigh_modify every 1 delay 0 check yes",
-        f"pair_style cgms {pair_args}" + (" damping no" if method == "quasistatic" else ""),
+        f"pair_style cgms {pair_args}" + (" damping no" if method != "dynamics" else ""),
         f"pair_coeff * * {material} {overrides}",
-        f"fix fluid all cgms/fluid dryness {dryness} {fix_args}",
+        f"fix fluid all cgms/fluid dryness {dryness} {fix_args}"
+        + (" balance yes" if method == "newton" else ""),
         "fix nve all nve",
         "fix 2d all enforce2d",
         f"timestep {dt}",
         compute,
-        "thermo_style custom step time f_fluid[1] f_fluid[2] f_fluid[3] f_fluid[4]",
+        "thermo_style custom step time pe f_fluid[1] f_fluid[2] f_fluid[3] f_fluid[4]",
         "thermo_modify norm no flush yes",
         f"thermo {st['every'] * 10}",
     ]
@@ -99,13 +102,15 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         # dmax: LAMMPS measures it in length units, 0.1 m by default; a cell is 1.5e-4 m
         lines += ["min_style fire", "min_modify norm max dmax 1e-6",
                   f"minimize 0.0 {ftol} {st['max_steps']} {10 * st['max_steps']}"]
+    elif method == "newton":
+        return "\n".join(lines + ["run 0"]) + "\n"
     elif method == "dynamics":
         lines += [
             f"variable steady equal (f_fluid[1]<{st['residual']})&&(f_fluid[3]<{st['speed']})",
             f"fix halt all halt {st['every']} v_steady > 0.5 error continue",
             f"run {st['max_steps']}"]
     else:
-        raise ValueError(f"method must be 'dynamics' or 'quasistatic', not {method!r}")
+        raise ValueError(f"method must be 'dynamics', 'quasistatic' or 'newton', not {method!r}")
     if dump:
         lines += [f"write_dump all custom {dump} {columns} modify sort id {names}"]
     return "\n".join(lines) + "\n"
@@ -120,3 +125,22 @@ def steady_state(lmp):
     fix = [lmp.numpy.extract_fix("fluid", 0, 1, k) for k in range(4)]
     return dict(xy=xy, residual=fix[0], moisture=fix[1], speed=fix[2], kinetic=fix[3],
                 steps=lmp.extract_global("ntimestep"))
+
+
+def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, log=None):
+    """Newton's method (:mod:`cgms.solve`) on a LAMMPS instance set up by
+    :func:`tissue_script` with ``method="newton"``; writes the final state to ``dump``.
+    Returns the solver's report (iterations, force evaluations, seconds, largest force,
+    ``converged``)."""
+    from . import solve
+
+    forces = solve.LammpsForces(lmp)
+    cutoff = lmp.extract_pair("cut_global")
+    xy, info = solve.newton(forces, forces.positions(), cutoff, ftol=ftol,
+                            max_iterations=max_iterations, log=log)
+    forces(xy)  # leave LAMMPS at the solution
+    if dump:
+        compute, columns, names = dump_columns()
+        lmp.command(f"write_dump all custom {dump} {columns} modify sort id {names}")
+    return info
+

@@ -30,16 +30,17 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
     start = time.perf_counter()
     lmp = run.open_lammps(log=out / f"log.{name}.lammps")
     try:
+        dump = (out / f"tissue.{name}.dump").resolve()
         lmp.commands_string(run.tissue_script(
-            Path(data).resolve(), Path(material).resolve(), dryness,
-            dump=(out / f"tissue.{name}.dump").resolve(), dump_every=dump_every, steady=steady,
-            diameters=diameters, dt=dt, pair_args=pair_args, fix_args=fix_args, method=method,
-            overrides=overrides))
+            Path(data).resolve(), Path(material).resolve(), dryness, dump=dump,
+            dump_every=dump_every, steady=steady, diameters=diameters, dt=dt,
+            pair_args=pair_args, fix_args=fix_args, method=method, overrides=overrides))
+        solver = run.solve_newton(lmp, dump=dump) if method == "newton" else None
         state = run.steady_state(lmp)
     except Exception as err:
-        hint = (" The quasi-static solve (FIRE) is not guaranteed for CGMS's non-gradient "
-                "forces and can diverge on large tissues; try --method dynamics."
-                if method == "quasistatic" else "")
+        hint = (" The quasi-static solve (FIRE) can stall or diverge where the potential is "
+                "not convex (large dried tissues: doc/validation.md); try --method newton "
+                "or dynamics." if method == "quasistatic" else "")
         raise RuntimeError(f"s = {dryness:g}: LAMMPS stopped: {err} (log: "
                            f"{out / f'log.{name}.lammps'}).{hint}") from err
     finally:
@@ -47,6 +48,10 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
     max_steps = dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"]
     state.update(dryness=dryness, seconds=time.perf_counter() - start, method=method,
                  converged=bool(state["steps"] < max_steps))
+    if solver:
+        # steps: Newton iterations; the residual is 0 by construction (P = -Pi)
+        state.update(steps=solver["iterations"], converged=bool(solver["converged"]),
+                     fmax=solver["fmax"], evaluations=solver["evaluations"])
     return state
 
 

@@ -67,7 +67,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    comm_column(COEF), work(nullptr), nmax_work(0), vector_step(-1)
+    comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0), vector_step(-1)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -131,6 +131,12 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   size_vector = 4;
   global_freq = 1;
   extvector = 0;
+  // the potential of the quasi-static problem (see update_fluid_state); counted in the
+  // potential energy by default, as minimize needs it for its line search
+  scalar_flag = 1;
+  extscalar = 1;
+  energy_global_flag = 1;
+  thermo_energy = 1;
   peratom_flag = 1;
   size_peratom_cols = NCOLUMNS;
   peratom_freq = 1;
@@ -356,6 +362,7 @@ void FixCGMSFluid::initialise_beads()
 
 void FixCGMSFluid::update_fluid_state(int advance)
 {
+  energy_local = 0.0;
   // with turgor, perimeter and mass transfer all off nothing reads this state
   if (!pair->pair_coefficient_needed() && !transfer) return;
 
@@ -548,6 +555,16 @@ void FixCGMSFluid::update_fluid_state(int advance)
     c[LDEQ] = ldeq;
     c[DMDT] = dmdt;
     c[COEF] = coef[i] = 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
+    // with the pressures held, turgor and perimeter forces are the gradient of
+    //   E_i = -k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i),
+    // g_i = dl_i/dx_ik = (N + beta max(0, 6 - N)) / (sqrt(3) N), as long as no
+    // neighbour crosses the cutoff: so minimize can do line searches on them
+    if (balance && nn > 0.0) {
+      const double dl_dx = (nn + beta * MAX(0.0, 6.0 - nn)) / (SQRT3 * nn);
+      const double excess = perim - ldeq;
+      energy_local +=
+          -0.5 * kT * (press - P_f) * sums[2 * i + 1] + 0.25 * kPA * excess * excess / dl_dx;
+    }
     if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
     // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
     // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
@@ -633,6 +650,19 @@ void FixCGMSFluid::damping_limit_error(int i)
              "use a smaller timestep{}",
              update->dt, update->ntimestep, 2.0 * m / (1.5 * pair->material().k_d * nn),
              atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
+}
+
+/* ----------------------------------------------------------------------
+   the quasi-static potential (J) of the last force evaluation while the
+   pressures are held at -Pi (minimize, or balance yes); 0 otherwise, when
+   turgor and perimeter forces have no potential
+------------------------------------------------------------------------- */
+
+double FixCGMSFluid::compute_scalar()
+{
+  double energy = 0.0;
+  MPI_Allreduce(&energy_local, &energy, 1, MPI_DOUBLE, MPI_SUM, world);
+  return energy;
 }
 
 /* ----------------------------------------------------------------------

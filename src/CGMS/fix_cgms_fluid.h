@@ -24,6 +24,7 @@ class FixCGMSFluid : public Fix {
   void setup_pre_force(int) override;
   void pre_force(int) override;
   void min_pre_force(int) override;
+  double compute_scalar() override;
   double compute_vector(int) override;
   void grow_arrays(int) override;
 
@@ -55,6 +56,8 @@ class FixCGMSFluid : public Fix {
   int comm_column;    // column sent by forward communication
   double *work;       // per-bead values of a keyword (dryness, diameter)
   int nmax_work;
+
+  double energy_local;    // quasi-static potential of the local beads (J)
 
   bigint vector_step;    // step of the cached global outputs
   double vector_cache[4];

@@ -1,0 +1,201 @@
+"""Steady states by Newton's method on the quasi-static problem (MODEL.md 8).
+
+At steady state every bead holds ``P = -Pi``. With the pressures held there, the CGMS
+forces are the gradient of a potential (``fix cgms/fluid`` reports it as its scalar and
+adds it to ``pe``), so the steady geometry is a minimum of that potential. The dynamics
+reaches it slowly: long-wavelength modes of a large tissue are barely damped. Newton's
+method does not follow the transient:
+
+- forces and energy come from LAMMPS (``fix cgms/fluid ... balance yes``, ``run 0``);
+- the Jacobian is built by finite differences of those forces, many beads at a time:
+  a bead's force depends only on beads within two cutoffs, so beads more than four
+  cutoffs apart can be displaced together (a graph colouring; Curtis, Powell and Reid);
+- each step solves the sparse linear system with SciPy, damped Levenberg-Marquardt
+  style until the potential falls (it is bounded below, and the damping keeps a step
+  from jumping to a far basin).
+
+Serial only: the lammps instance runs in this process.
+"""
+
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from scipy.spatial import cKDTree
+
+
+class LammpsForces:
+    """Energy and forces of the beads of a LAMMPS instance at given positions (id order).
+
+    The instance must use pair cgms and ``fix cgms/fluid ... balance yes`` (so that the
+    pressures are held at -Pi) with damping off, and have run once."""
+
+    def __init__(self, lmp):
+        self.lmp = lmp
+        self.n = lmp.get_natoms()
+        self.evaluations = 0
+
+    def positions(self):
+        x = np.ctypeslib.as_array(self.lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+        return x[:, :2].copy()
+
+    def __call__(self, xy):
+        """(energy, forces (n, 2)) at positions ``xy`` (n, 2), by ``run 0``."""
+        lmp = self.lmp
+        x = np.ctypeslib.as_array(lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+        x[:, :2] = xy
+        lmp.scatter_atoms("x", 1, 3, np.ctypeslib.as_ctypes(x.ravel()))
+        lmp.command("run 0 post no")
+        self.evaluations += 1
+        f = np.ctypeslib.as_array(lmp.gather_atoms("f", 1, 3)).reshape(-1, 3)
+        return lmp.get_thermo("pe"), f[:, :2].copy()
+
+
+def colour(xy, separation):
+    """Greedy colouring: beads of one colour are more than ``separation`` apart.
+    Returns an array of colours 0..k-1."""
+    tree = cKDTree(xy)
+    near = tree.query_ball_point(xy, separation)
+    colours = np.full(len(xy), -1)
+    # sweep in lattice order so the greedy choice packs colours regularly
+    for i in np.lexsort((xy[:, 0], xy[:, 1])):
+        used = colours[near[i]]
+        free = np.ones(len(near[i]) + 1, bool)
+        free[used[(used >= 0) & (used < len(free))]] = False
+        colours[i] = np.argmax(free)
+    return colours
+
+
+def jacobian(forces, xy, f0, colours, reach, step):
+    """Sparse dF/dx (2n x 2n, coordinates interleaved x0 y0 x1 y1 ...) by forward
+    differences, one force evaluation per colour and direction. ``reach``: a bead's
+    displacement changes forces only within this distance."""
+    n = len(xy)
+    tree = cKDTree(xy)
+    pairs = tree.query_pairs(reach, output_type="ndarray")
+    # rows i influenced by column bead j: j itself and beads within reach
+    rows_j = np.concatenate([np.arange(n), pairs[:, 0], pairs[:, 1]])
+    cols_j = np.concatenate([np.arange(n), pairs[:, 1], pairs[:, 0]])
+    rows, cols, vals = [], [], []
+    for c in range(colours.max() + 1):
+        moved = colours == c
+        sel = moved[cols_j]  # entries whose column bead is displaced in this group
+        ri, cj = rows_j[sel], cols_j[sel]
+        for d in range(2):
+            x1 = xy.copy()
+            x1[moved, d] += step
+            _, f1 = forces(x1)
+            df = (f1 - f0) / step
+            for e in range(2):
+                rows.append(2 * ri + e)
+                cols.append(2 * cj + d)
+                vals.append(df[ri, e])
+    rows, cols, vals = (np.concatenate(a) for a in (rows, cols, vals))
+    # ``reach`` is a Euclidean bound on two neighbour hops: entries beyond the true
+    # pattern are rounding noise, and keeping them would double the fill of the LU
+    keep = np.abs(vals) > 1e-9 * np.abs(vals).max()
+    return sp.csc_matrix((vals[keep], (rows[keep], cols[keep])), shape=(2 * n, 2 * n))
+
+
+def without_rigid_motion(xy, delta):
+    """``delta`` (2n, interleaved) minus its translation and rotation about the centroid."""
+    d = delta.reshape(-1, 2)
+    r = xy - xy.mean(0)
+    d = d - d.mean(0)
+    rot = np.column_stack([-r[:, 1], r[:, 0]])
+    d = d - (np.sum(d * rot) / np.sum(rot * rot)) * rot
+    return d.ravel()
+
+
+def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_move=None,
+           stall=4, log=None):
+    """Minimise the quasi-static potential from positions ``xy``: returns (xy, info).
+
+    ``cutoff``: the largest pair cutoff (m). ``ftol``: stop when the largest force
+    component on any bead is below this (N); ``info["converged"]`` says whether it was.
+    ``stall``: also stop when in this many iterations neither the largest force has
+    halved nor the potential fallen by 1e-4 of itself:
+    the potential is then not convex around the beads (a soft, unstable mode, seen at
+    the corners of large dried tissues), and Newton steps only creep along it.
+    ``step``: finite-difference displacement (m; default 1e-7 of the bead spacing).
+    ``max_move``: largest displacement of a bead relative to a neighbour in one iteration
+    (m; default 5 % of the bead spacing), so a step cannot carry a bead across a
+    neighbour's cutoff."""
+    # a bead's force depends on beads two neighbour hops away: within two cutoffs
+    reach = 2.04 * cutoff
+    separation = 2 * reach
+    spacing = np.median(cKDTree(xy).query(xy, 2)[0][:, 1])
+    step = step or 1e-7 * spacing
+    max_move = max_move or 0.05 * spacing
+    colours = colour(xy, separation)
+    info = dict(iterations=0, evaluations=0, colours=int(colours.max() + 1), history=[],
+                stalled=False)
+    start = time.perf_counter()
+    energy, f = forces(xy)
+    mu = 0.0
+    tries = 0
+    for it in range(max_iterations):
+        fmax = np.abs(f).max()
+        info["history"].append((it, energy, fmax, time.perf_counter() - start))
+        if log:
+            log(f"newton {it:3d}  E {energy:.12e}  fmax {fmax:.3e}  mu {mu:.2e}  tries {tries}  "
+                f"{time.perf_counter() - start:.1f} s")
+        if fmax < ftol:
+            break
+        past = info["history"][-stall - 1:]
+        if len(past) > stall and fmax > 0.5 * past[0][2] and \
+                past[0][1] - energy < 1e-4 * abs(energy):
+            info["stalled"] = True
+            break
+        jac = jacobian(forces, xy, f, colours, reach, step)
+        pairs = cKDTree(xy).query_pairs(0.5 * reach, output_type="ndarray")
+        hess = -0.5 * (jac + jac.T)
+        diag = np.abs(hess.diagonal())
+        scale = diag.mean()
+        rhs = f.ravel()
+        tries = 0
+        while True:
+            tries += 1
+            # the potential does not change under rigid motion: a small shift keeps the
+            # matrix regular, and the rigid part of the step is removed below
+            shift = max(mu, 1e-10) * scale
+            shifted = (hess + sp.diags(np.full(len(rhs), shift))).tocsc()
+            try:
+                # symmetric ordering and diagonal pivots: partial pivoting would wreck
+                # the ordering (minutes instead of seconds for 20 000 beads)
+                delta = spla.splu(shifted, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                                  options=dict(SymmetricMode=True)).solve(rhs)
+            except RuntimeError:  # singular
+                delta = None
+            if delta is not None:
+                delta = without_rigid_motion(xy, delta)
+            ok = delta is not None and np.all(np.isfinite(delta)) and rhs @ delta > 0
+            if ok:
+                # what carries a bead across a neighbour's cutoff is its displacement
+                # relative to its neighbours; a tissue-wide contraction may move the
+                # edges much further in one step
+                d = delta.reshape(-1, 2)
+                move = np.abs(d[pairs[:, 0]] - d[pairs[:, 1]]).max()
+                if move > max_move:
+                    delta *= max_move / move
+                trial = xy + delta.reshape(-1, 2)
+                e1, f1 = forces(trial)
+                # accept a decrease of the potential (Armijo, c = 1e-4); once the
+                # decrease is below the rounding of the energy, a smaller force
+                decrease = e1 <= energy - 1e-4 * (rhs @ delta)
+                flat = abs(e1 - energy) < 1e-11 * abs(energy) and \
+                    np.abs(f1).max() < np.abs(f).max()
+                if decrease or flat:
+                    xy, energy, f = trial, e1, f1
+                    mu = mu / 10 if mu > 1e-8 else 0.0
+                    break
+            # not a descent direction (the matrix is indefinite), or no decrease: damp
+            mu = max(10 * mu, 1e-5)
+            if mu > 1e6:
+                raise RuntimeError("Newton step found no decrease of the potential")
+        info["iterations"] = it + 1
+    fmax = float(np.abs(f).max())
+    info.update(evaluations=forces.evaluations, seconds=time.perf_counter() - start,
+                fmax=fmax, energy=energy, converged=fmax < ftol)
+    return xy, info

@@ -1,0 +1,188 @@
+"""The quasi-static problem: with every bead's pressure held at -Pi (``balance yes``, or
+``minimize``), fix cgms/fluid reports a potential whose gradient is minus the CGMS forces,
+so that LAMMPS minimisers and cgms.solve can work on it.
+
+Checked two ways: the plugin's energy against finite differences of itself (forces), and
+against the potential written down from MODEL.md with reference.py's geometry."""
+
+import numpy as np
+import pytest
+
+import reference
+from cgmstest import (APPLE, CUTOFF, MAT, XREF, header, make_tissue, new_lammps, physics,
+                      working_directory)
+
+
+def session(folder, pair_args="damping no", fix_args="balance yes"):
+    lmp = new_lammps()
+    with working_directory(folder):
+        lmp.commands_string(header() + physics(pair_args, fix_args))
+    lmp.command("thermo_style custom step pe f_fl")
+    lmp.command("run 0")
+    return lmp
+
+
+def energy_forces(lmp, xy):
+    """pe and forces (id order) with the beads at ``xy``."""
+    x = np.ctypeslib.as_array(lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+    x[:, :2] = xy
+    lmp.scatter_atoms("x", 1, 3, np.ctypeslib.as_ctypes(x.ravel()))
+    lmp.command("run 0 post no")
+    f = np.ctypeslib.as_array(lmp.gather_atoms("f", 1, 3)).reshape(-1, 3)[:, :2].copy()
+    return lmp.get_thermo("pe"), f
+
+
+@pytest.mark.parametrize("seed,pair_args", [(3, "damping no"), (4, "damping no periphery no"),
+                                            (5, "damping no attraction no")])
+def test_energy_gradient_is_minus_force(tmp_path, seed, pair_args):
+    info = make_tissue(tmp_path, jitter=0.08, seed=seed, s=(0.3, 1.0))
+    lmp = session(tmp_path, pair_args)
+    try:
+        x0 = info["xy"]
+        e0, f0 = energy_forces(lmp, x0)
+        h = 1e-9  # m, about 1e-5 of the bead spacing
+        rng = np.random.default_rng(seed)
+        worst = 0.0
+        for i in rng.choice(info["n"], 15, replace=False):
+            for d in range(2):
+                xp, xm = x0.copy(), x0.copy()
+                xp[i, d] += h
+                xm[i, d] -= h
+                grad = (energy_forces(lmp, xp)[0] - energy_forces(lmp, xm)[0]) / (2 * h)
+                worst = max(worst, abs(grad + f0[i, d]))
+        assert worst < 1e-6 * np.abs(f0).max(), worst
+    finally:
+        lmp.close()
+
+
+def test_energy_matches_model(tmp_path):
+    """pe = LJ energy + sum_i [-k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i)]
+    with P_i = -Pi_i = s_i |Pi_f| and g_i = dl_i/dx_ik, from reference.py's geometry."""
+    info = make_tissue(tmp_path, jitter=0.1, seed=7, s=(0.2, 1.0))
+    lmp = session(tmp_path)
+    try:
+        pe, _ = energy_forces(lmp, info["xy"])
+        fix_energy = lmp.extract_fix("fl", 0, 0)  # global scalar
+    finally:
+        lmp.close()
+    s, xy = info["s"], info["xy"]
+    _, dist, adj = reference.pair_geometry(xy, s, MAT, CUTOFF)
+    # geometry from any fluid mass; only N, l and l_d are used
+    l0p = MAT["turgid_ratio"] * 6 * MAT["b_ref"] * np.ones_like(s)
+    geo = reference.fluid_state(xy, s, np.ones_like(s), l0p, MAT, CUTOFF)
+    n = geo["nneigh"]
+    beta = MAT["beta_a"] + MAT["beta_b"] * np.log(s)
+    g = (n + beta * np.maximum(0.0, 6.0 - n)) / (np.sqrt(3.0) * n)
+    press = -s * MAT["Pi_f"]
+    sum_x = np.where(adj, dist, 0.0).sum(axis=1)
+    expected = np.sum(-0.5 * MAT["k_T"] * (press - MAT["P_f"]) * sum_x
+                      + MAT["k_PA"] * (geo["perim"] - geo["ldeq"]) ** 2 / (4 * g))
+    _, lj, _ = reference.pair_forces(xy, np.zeros_like(xy), s, np.zeros_like(s), MAT, CUTOFF,
+                                     turgor=False, perimeter=False, damping=False)
+    assert fix_energy == pytest.approx(expected, rel=1e-9)
+    assert pe == pytest.approx(expected + lj, rel=1e-9)
+
+
+def test_no_potential_in_dynamics(tmp_path):
+    """While pressures follow the fluid mass the forces have no potential: the fix
+    reports 0 and pe is the LJ energy alone."""
+    make_tissue(tmp_path, seed=2, s=0.5)
+    lmp = session(tmp_path, "damping no", "")
+    try:
+        assert lmp.extract_fix("fl", 0, 0) == 0.0
+    finally:
+        lmp.close()
+
+
+# --- cgms.solve: the Newton solver ------------------------------------------------------
+
+def springs(xy0, cutoff):
+    """A NumPy force field with the same reach as CGMS (forces depend on neighbours of
+    neighbours): E = sum_i (sum_k |x_i - x_k| - L_i)^2 / 2 over neighbours k of the
+    starting lattice, L_i = 1.05 times the starting sum."""
+    from scipy.spatial import cKDTree
+    pairs = cKDTree(xy0).query_pairs(cutoff, output_type="ndarray")
+    n = len(xy0)
+
+    def sums(xy):
+        d = xy[pairs[:, 0]] - xy[pairs[:, 1]]
+        r = np.linalg.norm(d, axis=1)
+        s = np.bincount(pairs[:, 0], r, n) + np.bincount(pairs[:, 1], r, n)
+        return d, r, s
+
+    target = 1.05 * sums(xy0)[2]
+
+    class Field:
+        evaluations = 0
+
+        def __call__(self, xy):
+            self.evaluations += 1
+            d, r, s = sums(xy)
+            excess = s - target
+            u = d / r[:, None]
+            w = (excess[pairs[:, 0]] + excess[pairs[:, 1]])[:, None] * u
+            f = np.zeros_like(xy)
+            np.add.at(f, pairs[:, 0], -w)
+            np.add.at(f, pairs[:, 1], w)
+            return 0.5 * np.sum(excess**2), f
+    return Field()
+
+
+def test_coloured_jacobian_equals_dense_one():
+    from cgms import solve, tissue
+    xy = tissue.hex_rectangle(8, 9, 1.0) + np.random.default_rng(0).uniform(-0.1, 0.1, (72, 2))
+    field = springs(xy, 1.35)
+    colours = solve.colour(xy, 4 * 1.4)
+    for c in range(colours.max() + 1):  # beads of one colour are more than 5.6 apart
+        pts = xy[colours == c]
+        if len(pts) > 1:
+            dist = np.linalg.norm(pts[:, None] - pts[None], axis=-1)
+            assert dist[np.triu_indices(len(pts), 1)].min() > 5.6
+    _, f0 = field(xy)
+    jac = solve.jacobian(field, xy, f0, colours, 2 * 1.4, 1e-7).toarray()
+    dense = np.zeros_like(jac)
+    for j in range(2 * len(xy)):
+        x1 = xy.copy()
+        x1.ravel()[j] += 1e-7
+        dense[:, j] = ((field(x1)[1] - f0) / 1e-7).ravel()
+    assert np.abs(jac - dense).max() < 1e-9 * np.abs(dense).max() + 1e-12
+
+
+def test_newton_finds_the_minimum_of_a_numpy_field():
+    from cgms import solve, tissue
+    xy = tissue.hex_rectangle(8, 9, 1.0)
+    field = springs(xy, 1.35)
+    start = xy + np.random.default_rng(1).uniform(-0.05, 0.05, xy.shape)
+    x, info = solve.newton(field, start, 1.35, ftol=1e-12)
+    assert info["converged"], info["fmax"]
+    assert np.abs(field(x)[1]).max() < 1e-12
+
+
+def test_newton_on_cgms_agrees_with_fire(tmp_path):
+    """The Newton steady state of a dried tissue equals FIRE's (LAMMPS minimize) up to a
+    rigid rotation: positions and shape measures to 1e-5."""
+    from cgms import morphology, run, tissue
+    xy = tissue.hex_rectangle(9, 10, XREF)
+    tissue.write_data(tmp_path / "t.data", xy, 4 * XREF)
+    states = {}
+    for method in ("newton", "quasistatic"):
+        lmp = run.open_lammps()
+        try:
+            lmp.commands_string(run.tissue_script(tmp_path / "t.data", APPLE, 0.3,
+                                                  method=method, steady=dict(max_steps=50000)))
+            if method == "newton":
+                info = run.solve_newton(lmp)
+                assert info["converged"], info
+            states[method] = run.steady_state(lmp)["xy"]
+        finally:
+            lmp.close()
+    # FIRE may turn the tissue as a whole (the potential does not change); Newton's
+    # steps carry no rigid motion: compare after the best rigid superposition (Kabsch)
+    a, b = (states[m] - states[m].mean(0) for m in ("newton", "quasistatic"))
+    u, _, vt = np.linalg.svd(a.T @ b)
+    rotation = u @ vt
+    diff = np.abs(a @ rotation - b).max() / XREF
+    assert diff < 1e-5, diff
+    ma, mb = morphology.measures(a @ rotation), morphology.measures(b)
+    for key in ("area", "perimeter", "elongation"):
+        assert ma[key] == pytest.approx(mb[key], rel=1e-5), key
