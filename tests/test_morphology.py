@@ -515,3 +515,26 @@ def test_hull_measures_kept():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         mo.measures(xy)  # a clean lattice raises no outline warning
+
+
+def test_side_bow_of_a_bent_rectangle():
+    """A lattice rectangle whose left and right sides are pushed in by a parabola of depth
+    0.3 at mid-height; top and bottom straight."""
+    xy = tissue.hex_rectangle(20, 21, 1.0, rows_along="y")
+    lo, hi = xy.min(0), xy.max(0)
+    y = (xy[:, 1] - lo[1]) / (hi[1] - lo[1])
+    edge = 0.3 * 4 * y * (1 - y)
+    near_left = xy[:, 0] < lo[0] + 0.5
+    near_right = xy[:, 0] > hi[0] - 0.5
+    bent = xy.copy()
+    bent[near_left, 0] += edge[near_left]
+    bent[near_right, 0] -= edge[near_right]
+    bows = mo.side_bow(bent, band=0.6)
+    assert bows["left"] == pytest.approx(0.3, abs=0.02)
+    assert bows["right"] == pytest.approx(0.3, abs=0.02)
+    assert abs(bows["top"]) < 1e-9 and abs(bows["bottom"]) < 1e-9
+    flat = mo.side_bow(xy, band=0.6)
+    assert max(abs(v) for v in flat.values()) < 1e-9
+    outward = xy.copy()
+    outward[near_left, 0] -= edge[near_left]
+    assert mo.side_bow(outward, band=0.6)["left"] == pytest.approx(-0.3, abs=0.02)

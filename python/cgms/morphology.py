@@ -317,6 +317,35 @@ def measures(xy, max_edge=None):
                 elongation_pca=_axis_ratio(*mom), outline=idx)
 
 
+def side_bow(xy, band):
+    """How far each side of a rectangular (axis-aligned) tissue bends inward, as a dict
+    left/right/bottom/top -> distance (same units as ``xy``).
+
+    A side's beads are those within ``band`` of the extreme coordinate on that side; the
+    bow is the distance of the one nearest the side's middle from the chord joining the
+    side's two end beads, positive towards the tissue's centre (a concave, inward-bent
+    side), negative outward. The paper (section 4.2) reports slightly inward-bent fresh
+    macroscale tissue."""
+    p = _points(xy)
+    centre = p.mean(axis=0)
+    bows = {}
+    for name, axis, sign in (("left", 0, -1), ("right", 0, 1), ("bottom", 1, -1),
+                             ("top", 1, 1)):
+        along = 1 - axis
+        depth = sign * p[:, axis]
+        side = p[depth > depth.max() - band]
+        side = side[np.argsort(side[:, along])]
+        if len(side) < 3:
+            raise ValueError(f"the {name} side has {len(side)} beads within band {band}: "
+                             "need at least 3 (widen the band)")
+        first, last = side[0], side[-1]
+        middle = side[np.argmin(np.abs(side[:, along] - centre[along]))]
+        t = (middle[along] - first[along]) / (last[along] - first[along])
+        chord = first[axis] + t * (last[axis] - first[axis])
+        bows[name] = float(sign * (chord - middle[axis]))
+    return bows
+
+
 def elongation_pca(xy, max_edge=None, source="outline"):
     """Major/minor axis ratio ``sqrt(l1 / l2)`` of the eigenvalues l1 >= l2 of the second
     moment (covariance) matrix: of the area enclosed by the outline polygon

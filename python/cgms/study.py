@@ -35,7 +35,12 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
             Path(data).resolve(), Path(material).resolve(), dryness, dump=dump,
             dump_every=dump_every, steady=steady, diameters=diameters, dt=dt,
             pair_args=pair_args, fix_args=fix_args, method=method, overrides=overrides))
-        solver = run.solve_newton(lmp, dump=dump) if method == "newton" else None
+        solver = None
+        if method == "newton":
+            # progress of the Newton iterations, one line each, beside the LAMMPS log
+            with open(out / f"newton.{name}.log", "w") as fh:
+                solver = run.solve_newton(lmp, dump=dump,
+                                          log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
     except Exception as err:
         hint = (" The quasi-static solve (FIRE) can stall or diverge where the potential is "
