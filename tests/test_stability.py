@@ -68,3 +68,40 @@ def test_literal_inertia_runs_below_its_limit(tmp_path):
     script = (tmp_path / "in.test").read_text().replace("timestep 1e-7", f"timestep {0.6 * limit}")
     proc = run_lmp(tmp_path, script, check=False)
     assert proc.returncode == 0, proc.stdout[-2000:]
+
+
+def test_estimated_time_step_limit(tmp_path):
+    """f_fl[5] is the smallest per-bead limit, min(2 m / (1.5 N k_d), 2 / omega) (fix doc
+    page); with the paper's inertia at s = 0.3 it is the damping limit, and the fix's
+    runtime check accepts a step 10 % below it and stops 10 % above it (over a few steps:
+    with the paper's inertia the mass, and so the limit, falls as the beads lose water)."""
+    from cgmstest import MAT, new_lammps, working_directory
+    make_tissue(tmp_path, jitter=0.05, seed=21, s=0.3)
+    lmp = new_lammps()
+    try:
+        with working_directory(tmp_path):
+            # the limit does not depend on the time step; 1e-7 s would be refused at setup
+            lmp.commands_string(header() + physics(fix_args="inertia fluid").replace(
+                "timestep 1e-7", "timestep 1e-8"))
+        lmp.command("thermo_style custom step f_fl[5]")
+        lmp.command("run 0")
+        limit = lmp.extract_fix("fl", 0, 1, 4)
+        n = lmp.extract_global("nlocal")
+        m = np.array(lmp.numpy.extract_atom("rmass")[:n])
+        cg = np.array(lmp.numpy.extract_fix("fl", 1, 2))[:n]
+    finally:
+        lmp.close()
+    nn, side, rho, s = cg[:, 2], cg[:, 3], cg[:, 8], cg[:, 1]
+    damping = 2 * m / (1.5 * nn * MAT["k_d"])
+    beta = MAT["beta_a"] + MAT["beta_b"] * np.log(s)
+    sum_gap = np.sqrt(3) * nn * 6 * side / (nn + beta * np.maximum(0, 6 - nn))
+    omega = np.sqrt(56 * MAT["k_T"] * MAT["K"] * (rho / (s * MAT["rho0"])) ** 7 / (m * sum_gap))
+    assert limit == pytest.approx(min(damping.min(), (2 / omega).min()), rel=1e-12)
+    assert limit == pytest.approx(damping.min(), rel=1e-12)  # damping is what limits here
+    for factor, ok in ((0.9, True), (1.1, False)):
+        script = header() + physics(fix_args="inertia fluid").replace(
+            "timestep 1e-7", f"timestep {factor * limit!r}") + "run 20\n"
+        proc = run_lmp(tmp_path, script, check=False)
+        assert (proc.returncode == 0) == ok, proc.stdout[-2000:]
+        if not ok:
+            assert "above the stability limit of the damping" in proc.stdout + proc.stderr

@@ -109,7 +109,7 @@ def without_rigid_motion(xy, delta):
 
 
 def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_move=None,
-           stall=4, log=None):
+           stall=12, log=None):
     """Minimise the quasi-static potential from positions ``xy``: returns (xy, info).
 
     ``cutoff``: the largest pair cutoff (m). ``ftol``: stop when the largest force

@@ -128,7 +128,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "Fix cgms/fluid every needs a variable dryness (dryness v_name)");
 
   vector_flag = 1;
-  size_vector = 4;
+  size_vector = 5;
   global_freq = 1;
   extvector = 0;
   // the potential of the quasi-static problem (see update_fluid_state); counted in the
@@ -667,7 +667,8 @@ double FixCGMSFluid::compute_scalar()
 
 /* ----------------------------------------------------------------------
    global outputs: 1 residual max|P + Pi|/|Pi_f|, 2 X/X0 = sum m_f / sum m_f0,
-   3 largest bead speed, 4 kinetic energy
+   3 largest bead speed, 4 kinetic energy, 5 estimated largest stable time
+   step (0: no limit)
 ------------------------------------------------------------------------- */
 
 double FixCGMSFluid::compute_vector(int n)
@@ -684,24 +685,39 @@ void FixCGMSFluid::refresh_vector()
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
 
-  double local_max[2] = {0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
+  // the explicit stability limits of update_fluid_state, as squared rates 1/dt^2:
+  // damping (1.5 N k_d / 2 m)^2 and turgor omega^2 / 4
+  const double kd = pair->damping ? mat.k_d : 0.0;
+  const double kT = pair->turgor ? mat.k_T : 0.0;
+  double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   for (int i = 0; i < nlocal; i++) {
     const double *c = cg[i];
     local_max[0] = MAX(local_max[0], fabs(c[PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
+    const double nn = c[NNEIGH];
+    if (nn > 0.0) {
+      const double damp_rate = 0.75 * nn * kd / rmass[i];
+      const double beta = pair->periphery ? mat.beta(c[DRYNESS]) : 1.0;
+      const double sum_gap = SQRT3 * nn * 6.0 * c[SIDE] / (nn + beta * MAX(0.0, 6.0 - nn));
+      const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
+      const double q7 = q * q * q * q * q * q * q;
+      const double omega2 = 56.0 * kT * mat.K * q7 / (rmass[i] * sum_gap);
+      local_max[2] = MAX(local_max[2], MAX(damp_rate * damp_rate, 0.25 * omega2));
+    }
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
     local_max[1] = MAX(local_max[1], v2);
     local_sum[0] += c[MF];
     local_sum[1] += c[MF0];
     local_sum[2] += 0.5 * rmass[i] * v2;
   }
-  double global_max[2], global_sum[3];
-  MPI_Allreduce(local_max, global_max, 2, MPI_DOUBLE, MPI_MAX, world);
+  double global_max[3], global_sum[3];
+  MPI_Allreduce(local_max, global_max, 3, MPI_DOUBLE, MPI_MAX, world);
   MPI_Allreduce(local_sum, global_sum, 3, MPI_DOUBLE, MPI_SUM, world);
 
   vector_cache[0] = global_max[0];
   vector_cache[1] = global_sum[1] > 0.0 ? global_sum[0] / global_sum[1] : 0.0;
   vector_cache[2] = sqrt(global_max[1]);
   vector_cache[3] = global_sum[2];
+  vector_cache[4] = global_max[2] > 0.0 ? 1.0 / sqrt(global_max[2]) : 0.0;
   vector_step = update->ntimestep;
 }
 

@@ -60,7 +60,7 @@ class FixCGMSFluid : public Fix {
   double energy_local;    // quasi-static potential of the local beads (J)
 
   bigint vector_step;    // step of the cached global outputs
-  double vector_cache[4];
+  double vector_cache[5];
 
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
