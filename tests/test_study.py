@@ -79,3 +79,20 @@ def test_sensitivity_settings_scale_the_named_parameter():
     pair, over = sensitivity.setting_args(mat, "beta", 1.1)
     assert pair == "" and over.split()[0::2] == ["beta_a", "beta_b"]
     assert float(over.split()[1]) == 1.1 * 1.0311
+
+
+def test_newton_level_matches_fire_and_logs_progress(small_tissue, tmp_path):
+    """--method newton through the study: converged, the same X/X0 and shape as the FIRE
+    solve, a dump for OVITO and a progress log with one line per iteration."""
+    from cgms import morphology
+    newton = study.relax(small_tissue, APPLE, 0.4, tmp_path / "n", method="newton")
+    fire = study.relax(small_tissue, APPLE, 0.4, tmp_path / "f", method="quasistatic",
+                       steady=dict(max_steps=100000))
+    assert newton["converged"] and newton["fmax"] < 1e-13
+    assert newton["moisture"] == pytest.approx(fire["moisture"], rel=1e-6)
+    a, b = morphology.measures(newton["xy"]), morphology.measures(fire["xy"])
+    for key in ("area", "perimeter"):
+        assert a[key] == pytest.approx(b[key], rel=1e-6)
+    assert (tmp_path / "n" / "tissue.s0.4.dump").stat().st_size > 0
+    lines = (tmp_path / "n" / "newton.s0.4.log").read_text().splitlines()
+    assert len(lines) == newton["steps"] + 1 and lines[-1].startswith("newton")
