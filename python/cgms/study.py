@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import morphology, run
+from . import material as material_file, morphology, run
 
 LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3)
 
@@ -38,8 +38,10 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
         solver = None
         if method == "newton":
             # progress of the Newton iterations, one line each, beside the LAMMPS log
+            mat = material_file.with_overrides(material_file.read(material), overrides)
             with open(out / f"newton.{name}.log", "w") as fh:
                 solver = run.solve_newton(lmp, dump=dump,
+                                          spacing=material_file.steady_spacing(mat, dryness),
                                           log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
     except Exception as err:
