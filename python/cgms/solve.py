@@ -17,7 +17,7 @@ method does not follow the transient:
   (Levenberg-Marquardt) until it is.
 
 Where the potential is convex this converges quadratically (every microscale tissue,
-12 to 18 iterations). Large tissues have soft, unstable modes at their corners, along
+5 to 22 iterations). Large tissues have soft, unstable modes at their corners, along
 which Newton steps only creep; the solver then stops and says so (``stalled``,
 ``converged`` false). Measurements: doc/performance.md.
 
