@@ -153,10 +153,12 @@ def plot(summary, path, n, s):
     fig, ax = plt.subplots(figsize=(7, 5))
     for r in summary:
         err = max(abs(r["d_area"]), abs(r["d_perimeter"]), abs(r["d_elongation"]), 1e-12)
+        # a legend, not labels: the dynamics levers land on top of each other
         ax.errorbar(r["seconds_median"], err,
                     xerr=[[r["seconds_median"] - r["seconds_min"]],
-                          [r["seconds_max"] - r["seconds_median"]]], fmt="o")
-        ax.annotate(r["lever"], (r["seconds_median"], err), fontsize=8)
+                          [r["seconds_max"] - r["seconds_median"]]], fmt="o",
+                    label=r["lever"])
+    ax.legend(fontsize=8)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("wall time to steady state (s)")
