@@ -721,21 +721,25 @@ def test_moderate_dryness_jumps_mid_run(tmp_path, calibration):
     assert run.thermo["pmax"].max() > 1e8
 
 
-JUMP_BLAST = (
-    "turgor stiffness not checked: setting s from 1 to 0.5 in one step leaves each bead "
-    "with twice its new reference density, P = K 2^7 = 2.6e9 to 4.3e9 Pa; the turgor "
-    "stiffness then puts omega dt above 2 at 1e-7 s (two beads: omega^2 = 28 k_T P / "
-    "((x - d_p) m), omega dt = 2.7), the beads reach 155 m/s and the run stops with 'bead 1 "
-    "has no neighbour', a symptom; at 1e-8 s the same jump runs (1 -> 0.3: N = 11 and the "
-    "damping error; 1 -> 0.1: all atoms lost)")
-
-
-@pytest.mark.xfail(strict=True, reason=JUMP_BLAST)
-def test_large_dryness_jump_two_beads(tmp_path):
+def test_large_dryness_jump_is_refused_with_its_limit(tmp_path):
+    """s set from 1 to 0.5 in one step on two beads: each keeps the fluid of s = 1 against
+    the reference density of 0.5, P reaches K 2^7 ~ 2.6e9 Pa and the turgor stiffness puts
+    omega dt near 3 at 1e-7 s (it used to blow up: 155 m/s, then 'bead 1 has no
+    neighbour'). Right after a dryness change the fix applies the strict explicit limit
+    omega dt < 2 and stops, naming the change and the limit; at a quarter of that limit
+    the same jump runs to the steady state."""
     xy = centred(tissue.hex_rectangle(2, 1, XREF))
-    run = run_tissue(tmp_path, xy, dryness="1.0", steps=0, every=1,
-                     after="fix fl all cgms/fluid dryness 0.5\nthermo 5000\nrun 100000")
-    expect_xfail_run(run)
+    jump = "fix fl all cgms/fluid dryness 0.5\nthermo 5000\nrun 100000"
+    run = run_tissue(tmp_path / "paper_dt", xy, dryness="1.0", steps=0, every=1, after=jump)
+    assert run.proc.returncode != 0
+    assert "the change of dryness at step 0 compresses bead" in run.error, run.error
+    assert "above the stability limit" in run.error and "smaller steps" in run.error
+    limit = float(run.error.split("about ")[1].split()[0])
+    assert 2e-8 < limit < 1e-7, limit
+    slow = run_tissue(tmp_path / "small_dt", xy, dryness="1.0", steps=0, every=1,
+                      dt=0.25 * limit, after=jump.replace("run 100000", "run 400000"))
+    healthy(slow)
+    assert slow.moisture == pytest.approx(predicted_moisture([0.5, 0.5]), rel=1e-3)
 
 
 # ------------------------------------------------------------------------------- sensitivity

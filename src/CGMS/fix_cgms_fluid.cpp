@@ -67,7 +67,8 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0), vector_step(-1)
+    dryness_changed(0), comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0),
+    vector_step(-1)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -282,7 +283,11 @@ void FixCGMSFluid::apply_dryness()
       if (cg[i][MF0] <= 0.0) cg[i][DRYNESS] = 1.0;
   } else {
     const double *value = per_bead_values(dryness_ivar, dryness_value);
-    for (int i = 0; i < nlocal; i++) cg[i][DRYNESS] = value[i];
+    for (int i = 0; i < nlocal; i++) {
+      // a bead that already has a fluid state and gets a new dryness
+      if (cg[i][MF0] > 0.0 && cg[i][DRYNESS] != value[i]) dryness_changed = 1;
+      cg[i][DRYNESS] = value[i];
+    }
   }
 
   int bad = -1;
@@ -472,6 +477,13 @@ void FixCGMSFluid::update_fluid_state(int advance)
   double *rmass = atom->rmass;
   const int turgor_check = kT > 0.0 && !balance;
   const double turgor_dt2 = 56.0 * kT * K * dt * dt;
+  // right after a change of dryness, beads keep the fluid of the old level against the
+  // reference of the new one: a large change compresses them at once, the pressure
+  // spikes, and a step with omega dt > 2 blows up (s from 1 to 0.5: omega dt 2.7 for a
+  // bead with one neighbour). There the strict explicit limit applies (see below).
+  const double turgor_bound = dryness_changed ? 4.0 : 16.0;    // (omega dt)^2
+  const int after_change = dryness_changed;
+  dryness_changed = 0;
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1;
   double stiff_ratio = 0.0, stiff_limit = 0.0;
 
@@ -576,7 +588,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
     if (turgor_check && nn > 0.0) {
       // (omega dt)^2 > 16 without a division in the common case
       const double sum_gap = sums[2 * i + 1] - nn * pectin;
-      if (turgor_dt2 * q7 > 16.0 * rmass[i] * sum_gap) {
+      if (turgor_dt2 * q7 > turgor_bound * rmass[i] * sum_gap) {
         const double omega2 = 56.0 * kT * K * q7 / (rmass[i] * sum_gap);
         const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
         if (ratio > stiff_ratio) {
@@ -608,6 +620,16 @@ void FixCGMSFluid::update_fluid_state(int advance)
                "became unstable; reduce the time step (now {:.6g} s)",
                atom->tag[nonfinite], update->ntimestep, dt);
   if (unstable >= 0) damping_limit_error(unstable);
+  if (stiff >= 0 && after_change)
+    error->one(FLERR,
+               "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
+               "times its new reference density, and its turgor force is then above the "
+               "stability limit, about {:.4g} s = 2 / omega (omega dt = {:.3g} at dt = {:.4g} "
+               "s): change the dryness in smaller steps (e.g. a ramp with 'every'), or use a "
+               "smaller timestep",
+               update->ntimestep, atom->tag[stiff],
+               cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0), stiff_limit,
+               2.0 * sqrt(stiff_ratio), dt);
   if (stiff >= 0)
     error->one(
         FLERR,

@@ -52,6 +52,7 @@ class FixCGMSFluid : public Fix {
   int always_balance;       // 1: P = -Pi in runs too (external quasi-static solvers)
   int minimize_balance;     // 1: under minimize, P = -Pi (quasi-static solve); 0: from m_f
   int allow_isolated;       // a bead without neighbours: error (0) or reference cell (1)
+  int dryness_changed;      // a bead with a fluid state got a new dryness since the last pass
 
   int comm_column;    // column sent by forward communication
   double *work;       // per-bead values of a keyword (dryness, diameter)
