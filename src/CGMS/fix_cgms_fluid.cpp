@@ -46,6 +46,16 @@ static const struct InverseCounts {
 } INV_SQRT3_N;
 
 /* ----------------------------------------------------------------------
+   omega^2 of the turgor stiffness of a bead (see update_fluid_state): its
+   fluid at q^7 = (rho/rho_ref)^7, inertial mass m, sum_k (x_k - d_p) = sum_gap
+------------------------------------------------------------------------- */
+
+static inline double turgor_omega2(double kT, double K, double q7, double m, double sum_gap)
+{
+  return 56.0 * kT * K * q7 / (m * sum_gap);
+}
+
+/* ----------------------------------------------------------------------
    a keyword with two values: 0 for the first, 1 for the second (the error
    lists them in this order)
 ------------------------------------------------------------------------- */
@@ -589,7 +599,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
       // (omega dt)^2 > 16 without a division in the common case
       const double sum_gap = sums[2 * i + 1] - nn * pectin;
       if (turgor_dt2 * q7 > turgor_bound * rmass[i] * sum_gap) {
-        const double omega2 = 56.0 * kT * K * q7 / (rmass[i] * sum_gap);
+        const double omega2 = turgor_omega2(kT, K, q7, rmass[i], sum_gap);
         const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
         if (ratio > stiff_ratio) {
           stiff = i;
@@ -708,21 +718,22 @@ void FixCGMSFluid::refresh_vector()
   const int nlocal = atom->nlocal;
 
   // the explicit stability limits of update_fluid_state, as squared rates 1/dt^2:
-  // damping (1.5 N k_d / 2 m)^2 and turgor omega^2 / 4
+  // damping (1.5 N k_d / 2 m)^2 and turgor omega^2 / 4, from the neighbour sums of
+  // its last geometry pass
   const double kd = pair->damping ? mat.k_d : 0.0;
   const double kT = pair->turgor ? mat.k_T : 0.0;
+  const double *sums = store(lmp).sums;
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   for (int i = 0; i < nlocal; i++) {
     const double *c = cg[i];
     local_max[0] = MAX(local_max[0], fabs(c[PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = c[NNEIGH];
-    if (nn > 0.0) {
+    if (nn > 0.0 && sums) {
       const double damp_rate = 0.75 * nn * kd / rmass[i];
-      const double beta = pair->periphery ? mat.beta(c[DRYNESS]) : 1.0;
-      const double sum_gap = SQRT3 * nn * 6.0 * c[SIDE] / (nn + beta * MAX(0.0, 6.0 - nn));
       const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
       const double q7 = q * q * q * q * q * q * q;
-      const double omega2 = 56.0 * kT * mat.K * q7 / (rmass[i] * sum_gap);
+      const double sum_gap = sums[2 * i + 1] - nn * mat.pectin;
+      const double omega2 = turgor_omega2(kT, mat.K, q7, rmass[i], sum_gap);
       local_max[2] = MAX(local_max[2], MAX(damp_rate * damp_rate, 0.25 * omega2));
     }
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
