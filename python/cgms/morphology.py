@@ -74,6 +74,12 @@ def _check_points(p):
     return dist[:, 1]
 
 
+def spacing(xy):
+    """Median nearest-neighbour distance of the beads (at least 2)."""
+    p = _points(xy)
+    return float(np.median(cKDTree(p).query(p, k=2)[0][:, 1]))
+
+
 def default_max_edge(xy):
     """The default longest triangle edge: ``MAX_EDGE_FACTOR`` (1.5) times the median
     nearest-neighbour distance of the beads."""

@@ -138,14 +138,12 @@ def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, lo
     and buckle it (measured: other states, and slower, on the microscale tissues).
     Returns the solver's report (iterations, force evaluations, seconds, largest force,
     ``converged``)."""
-    from scipy.spatial import cKDTree
-
-    from . import solve
+    from . import morphology, solve
 
     forces = solve.LammpsForces(lmp)
     cutoff = lmp.extract_pair("cut_global")
     xy = forces.positions()
-    now = np.median(cKDTree(xy).query(xy, 2)[0][:, 1])
+    now = morphology.spacing(xy)
     if spacing and spacing > now:
         centre = xy.mean(axis=0)
         xy = centre + (xy - centre) * (spacing / now)

@@ -31,6 +31,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
+from . import morphology
+
 
 class LammpsForces:
     """Energy and forces of the beads of a LAMMPS instance at given positions (id order).
@@ -73,14 +75,13 @@ def colour(xy, separation):
     return colours
 
 
-def jacobian(forces, xy, f0, colours, reach, step):
+def jacobian(forces, xy, f0, colours, pairs, step):
     """Sparse dF/dx (2n x 2n, coordinates interleaved x0 y0 x1 y1 ...) by forward
-    differences, one force evaluation per colour and direction. ``reach``: a bead's
-    displacement changes forces only within this distance."""
+    differences, one force evaluation per colour and direction. ``pairs``: the bead pairs
+    within the reach of a displacement (a bead's displacement changes forces only on
+    itself and on these partners)."""
     n = len(xy)
-    tree = cKDTree(xy)
-    pairs = tree.query_pairs(reach, output_type="ndarray")
-    # rows i influenced by column bead j: j itself and beads within reach
+    # rows i influenced by column bead j: j itself and its partners
     rows_j = np.concatenate([np.arange(n), pairs[:, 0], pairs[:, 1]])
     cols_j = np.concatenate([np.arange(n), pairs[:, 1], pairs[:, 0]])
     rows, cols, vals = [], [], []
@@ -131,7 +132,7 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
     # a bead's force depends on beads two neighbour hops away: within two cutoffs
     reach = 2.04 * cutoff
     separation = 2 * reach
-    spacing = np.median(cKDTree(xy).query(xy, 2)[0][:, 1])
+    spacing = morphology.spacing(xy)
     step = step or 1e-7 * spacing
     max_move = max_move or 0.05 * spacing
     colours = colour(xy, separation)
@@ -157,8 +158,11 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
         # colour again at every iteration: a shrinking tissue brings beads of one
         # colour closer together
         colours = colour(xy, separation) if it else colours
-        jac = jacobian(forces, xy, f, colours, reach, step)
-        pairs = cKDTree(xy).query_pairs(0.5 * reach, output_type="ndarray")
+        reached = cKDTree(xy).query_pairs(reach, output_type="ndarray")
+        jac = jacobian(forces, xy, f, colours, reached, step)
+        # neighbours (within one cutoff), for the limit on relative moves
+        gaps = np.linalg.norm(xy[reached[:, 0]] - xy[reached[:, 1]], axis=1)
+        pairs = reached[gaps < 0.5 * reach]
         hess = -0.5 * (jac + jac.T)
         diag = np.abs(hess.diagonal())
         scale = diag.mean()
