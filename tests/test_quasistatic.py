@@ -134,6 +134,10 @@ def test_coloured_jacobian_equals_dense_one():
         if len(pts) > 1:
             dist = np.linalg.norm(pts[:, None] - pts[None], axis=-1)
             assert dist[np.triu_indices(len(pts), 1)].min() > 5.6
+    # the solver keeps a colouring while it holds: it does here, and not once the
+    # beads have come 10 % closer together (the closest beads of one colour: 5.60 apart)
+    assert solve.colouring_holds(xy, colours, 5.6)
+    assert not solve.colouring_holds(0.9 * xy, colours, 5.6)
     _, f0 = field(xy)
     from scipy.spatial import cKDTree
     pairs = cKDTree(xy).query_pairs(2 * 1.4, output_type="ndarray")

@@ -105,6 +105,15 @@ def jacobian(forces, xy, f0, colours, pairs, step):
     return sp.csc_matrix((vals[keep], (rows[keep], cols[keep])), shape=(2 * n, 2 * n))
 
 
+def colouring_holds(xy, colours, separation):
+    """Whether beads of each colour are still more than ``separation`` apart."""
+    for c in range(colours.max() + 1):
+        members = xy[colours == c]
+        if len(members) > 1 and cKDTree(members).query_pairs(separation):
+            return False
+    return True
+
+
 def without_rigid_motion(xy, delta):
     """``delta`` (2n, interleaved) minus its translation and rotation about the centroid."""
     d = delta.reshape(-1, 2)
@@ -155,9 +164,10 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
                 past[0][1] - energy < 1e-4 * abs(energy):
             info["stalled"] = True
             break
-        # colour again at every iteration: a shrinking tissue brings beads of one
-        # colour closer together
-        colours = colour(xy, separation) if it else colours
+        # a shrinking tissue brings beads of one colour closer together: colour again
+        # when it has (the greedy colouring costs as much as 50 force evaluations)
+        if not colouring_holds(xy, colours, separation):
+            colours = colour(xy, separation)
         reached = cKDTree(xy).query_pairs(reach, output_type="ndarray")
         jac = jacobian(forces, xy, f, colours, reached, step)
         # neighbours (within one cutoff), for the limit on relative moves
