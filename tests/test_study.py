@@ -96,3 +96,7 @@ def test_newton_level_matches_fire_and_logs_progress(small_tissue, tmp_path):
     assert (tmp_path / "n" / "tissue.s0.4.dump").stat().st_size > 0
     lines = (tmp_path / "n" / "newton.s0.4.log").read_text().splitlines()
     assert len(lines) == newton["steps"] + 1 and lines[-1].startswith("newton")
+    # max_steps bounds the iterations, and the result says it did not converge
+    capped = study.relax(small_tissue, APPLE, 0.4, tmp_path / "c", method="newton",
+                         steady=dict(max_steps=2))
+    assert capped["steps"] == 2 and not capped["converged"] and capped["fmax"] > 1e-13

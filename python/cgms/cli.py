@@ -188,7 +188,7 @@ def parser():
         q.add_argument("--residual", type=float, default=1e-3, help="steady-state residual")
         q.add_argument("--speed", type=float, default=1e-3, help="steady-state speed, m/s")
         q.add_argument("--max-steps", type=int, default=2000000,
-                       help="step (or minimiser iteration) limit per level")
+                       help="step (or minimiser iteration; Newton: at most 60) limit per level")
         q.add_argument("--method", choices=("quasistatic", "newton", "dynamics"),
                        default="quasistatic",
                        help="solve for the steady state directly: P = -Pi and FIRE "

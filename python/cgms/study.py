@@ -39,8 +39,12 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
         if method == "newton":
             # progress of the Newton iterations, one line each, beside the LAMMPS log
             mat = material_file.with_overrides(material_file.read(material), overrides)
+            # --max-steps bounds the iterations too: a lever for large tissues, where
+            # Newton lands near the dynamics' shape in a few iterations and then creeps
+            # (doc/performance.md)
+            limit = min(60, dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"])
             with open(out / f"newton.{name}.log", "w") as fh:
-                solver = run.solve_newton(lmp, dump=dump,
+                solver = run.solve_newton(lmp, dump=dump, max_iterations=limit,
                                           spacing=material_file.steady_spacing(mat, dryness),
                                           log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
