@@ -64,13 +64,21 @@ def fluid_state(xy, s, mf, l0p, mat, cutoff, periphery=True, turgor=True, perime
 def pair_forces(xy, v, s, c, mat, cutoff, turgor=True, perimeter=True, damping=True,
                 repulsion=True, attraction=True):
     """Forces on every bead (eqns 3, 8, 12-15), the LJ energy and the virial tensor
-    W_ab = sum over pairs of d_a F_b (F on i from k)."""
+    W_ab = sum over pairs of d_a F_b (F on i from k).
+
+    With ``mat["k_S"]`` > 0, also the cell-shape force (an extension, not in the paper):
+    minus the gradient of k_S/2 sum_i sum_k (x_ik - xbar_i)^2, xbar_i the mean distance
+    of bead i to its neighbours; as sum_k (x_ik - xbar_i) = 0, the pair (i, k) gets
+    -k_S (2 x_ik - xbar_i - xbar_k) n."""
     d, dist, adj = pair_geometry(xy, s, mat, cutoff)
     safe = np.where(adj, dist, 1.0)
     nvec = d / safe[:, :, None]
     F = np.zeros_like(d)
     if turgor or perimeter:
         F += (c[:, None] + c[None, :])[:, :, None] * nvec
+    if mat.get("k_S", 0.0) > 0.0:
+        xbar = np.where(adj, dist, 0.0).sum(axis=1) / np.maximum(adj.sum(axis=1), 1)
+        F += (-mat["k_S"] * (2 * dist - xbar[:, None] - xbar[None, :]))[:, :, None] * nvec
     r = lj_radius(s, mat)
     q = r / safe
     lj = (q**8 - q**4) / safe**2

@@ -41,6 +41,8 @@ CASES = {
                      "is not above the lattice spacing"),
     "negative coefficient": (dict(coeff=f"pair_coeff * * {APPLE} k_T -1"),
                              "k_T = -1 must be > 0"),
+    "negative shape stiffness": (dict(coeff=f"pair_coeff * * {APPLE} k_S -0.5"),
+                                 "k_S = -0.5 must be >= 0"),
     "unknown parameter": (dict(coeff=f"pair_coeff * * {APPLE} k_X 1"),
                           "unknown CGMS parameter 'k_X'"),
     "non-numeric parameter": (dict(coeff=f"pair_coeff * * {APPLE} k_T soft"),

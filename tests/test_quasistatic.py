@@ -13,10 +13,10 @@ from cgmstest import (APPLE, CUTOFF, MAT, XREF, header, make_tissue, new_lammps,
                       working_directory)
 
 
-def session(folder, pair_args="damping no", fix_args="balance yes"):
+def session(folder, pair_args="damping no", fix_args="balance yes", overrides=""):
     lmp = new_lammps()
     with working_directory(folder):
-        lmp.commands_string(header() + physics(pair_args, fix_args))
+        lmp.commands_string(header() + physics(pair_args, fix_args, overrides))
     lmp.command("thermo_style custom step pe f_fl")
     lmp.command("run 0")
     return lmp
@@ -28,11 +28,12 @@ def energy_forces(lmp, xy):
     return solve.LammpsForces(lmp)(xy)
 
 
-@pytest.mark.parametrize("seed,pair_args", [(3, "damping no"), (4, "damping no periphery no"),
-                                            (5, "damping no attraction no")])
-def test_energy_gradient_is_minus_force(tmp_path, seed, pair_args):
+@pytest.mark.parametrize("seed,pair_args,overrides", [
+    (3, "damping no", ""), (4, "damping no periphery no", ""),
+    (5, "damping no attraction no", ""), (6, "damping no", "k_S 0.5")])
+def test_energy_gradient_is_minus_force(tmp_path, seed, pair_args, overrides):
     info = make_tissue(tmp_path, jitter=0.08, seed=seed, s=(0.3, 1.0))
-    lmp = session(tmp_path, pair_args)
+    lmp = session(tmp_path, pair_args, overrides=overrides)
     try:
         x0 = info["xy"]
         e0, f0 = energy_forces(lmp, x0)
@@ -51,11 +52,13 @@ def test_energy_gradient_is_minus_force(tmp_path, seed, pair_args):
         lmp.close()
 
 
-def test_energy_matches_model(tmp_path):
-    """pe = LJ energy + sum_i [-k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i)]
-    with P_i = -Pi_i = s_i |Pi_f| and g_i = dl_i/dx_ik, from reference.py's geometry."""
+@pytest.mark.parametrize("k_s", [0.0, 0.5])
+def test_energy_matches_model(tmp_path, k_s):
+    """pe = LJ energy + sum_i [-k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i)
+    + k_S/2 sum_k (x_ik - xbar_i)^2] with P_i = -Pi_i = s_i |Pi_f| and g_i = dl_i/dx_ik,
+    from reference.py's geometry."""
     info = make_tissue(tmp_path, jitter=0.1, seed=7, s=(0.2, 1.0))
-    lmp = session(tmp_path)
+    lmp = session(tmp_path, overrides=f"k_S {k_s}" if k_s else "")
     try:
         pe, _ = energy_forces(lmp, info["xy"])
         fix_energy = lmp.extract_fix("fl", 0, 0)  # global scalar
@@ -71,8 +74,11 @@ def test_energy_matches_model(tmp_path):
     g = (n + beta * np.maximum(0.0, 6.0 - n)) / (np.sqrt(3.0) * n)
     press = -s * MAT["Pi_f"]
     sum_x = np.where(adj, dist, 0.0).sum(axis=1)
+    xbar = sum_x / n
+    spread = np.where(adj, dist - xbar[:, None], 0.0)
     expected = np.sum(-0.5 * MAT["k_T"] * (press - MAT["P_f"]) * sum_x
-                      + MAT["k_PA"] * (geo["perim"] - geo["ldeq"]) ** 2 / (4 * g))
+                      + MAT["k_PA"] * (geo["perim"] - geo["ldeq"]) ** 2 / (4 * g)
+                      + 0.5 * k_s * (spread**2).sum(axis=1))
     _, lj, _ = reference.pair_forces(xy, np.zeros_like(xy), s, np.zeros_like(s), MAT, CUTOFF,
                                      turgor=False, perimeter=False, damping=False)
     assert fix_energy == pytest.approx(expected, rel=1e-9)

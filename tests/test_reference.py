@@ -16,13 +16,13 @@ SWITCHES = ["turgor", "perimeter", "periphery", "damping", "repulsion", "attract
 RTOL = 1e-10
 
 
-def snapshot(folder, steps, pair_args="", fix_args=""):
+def snapshot(folder, steps, pair_args="", fix_args="", overrides=""):
     """Run ``steps`` steps then ``run 0`` in a Python LAMMPS session; return the plugin's
     state sorted by atom id."""
     lmp = new_lammps()
     try:
         with working_directory(folder):
-            lmp.commands_string(header() + physics(pair_args, fix_args))
+            lmp.commands_string(header() + physics(pair_args, fix_args, overrides))
             lmp.command("compute vir all pressure NULL virial")
             lmp.command("thermo_style custom step pe c_vir[1] c_vir[2] c_vir[4]")
             lmp.command(f"run {steps}")
@@ -113,6 +113,28 @@ def test_each_switch_changes_exactly_its_terms(tmp_path, switch):
     # only periphery touches the geometry; nothing touches positions or masses
     for name in ("side", "area", "rho", "pressure", "dmdt") if switch != "periphery" else ():
         assert np.array_equal(full[name], off[name]), name
+
+
+def test_cell_shape_stiffness_matches_reference(tmp_path):
+    """k_S (an extension, off by default): the plugin's forces and virial against the
+    reference's gradient of k_S/2 sum (x_ik - xbar_i)^2; the paper's per-bead state is
+    unchanged, and the term is not negligible here."""
+    make_tissue(tmp_path, jitter=0.08, seed=5, s=(0.3, 1.0), vscale=1e-3)
+    plain = snapshot(tmp_path, steps=0)
+    state = snapshot(tmp_path, steps=0, overrides="k_S 0.5")
+    mat = dict(MAT, k_S=0.5)
+    fluid = reference.fluid_state(state["x"], state["dryness"], state["mf"], state["l0p"], mat,
+                                  CUTOFF, implicit_dt=1e-7)
+    f, pe, vir = reference.pair_forces(state["x"], state["v"], state["dryness"],
+                                       fluid["cgmscoef"], mat, CUTOFF)
+    for name in DERIVED:
+        assert_close(name, state[name], fluid[name])
+    assert_close("force (k_S)", state["f"], f)
+    assert_close("energy (k_S)", state["pe"], pe)
+    assert_close("virial (k_S)", state["virial"], np.array([vir[0, 0], vir[1, 1], vir[0, 1]]))
+    # (measured: 4e-3 of the largest force, against the 1e-10 agreement above)
+    assert np.max(np.abs(state["f"] - plain["f"])) > 1e-3 * np.max(np.abs(plain["f"]))
+    assert np.abs(state["f"].sum(axis=0)).max() < 1e-12 * np.abs(state["f"]).max()
 
 
 def test_fixed_cutoff_matches_reference(tmp_path):

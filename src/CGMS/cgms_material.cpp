@@ -53,6 +53,10 @@ const Entry entries[] = {
     {"rho0", &CGMS::Material::rho0, POSITIVE, true},
     {"L_p", &CGMS::Material::L_p, POSITIVE, true},
     {"solid_ratio", &CGMS::Material::solid_ratio, NONNEGATIVE, true},
+    // an extension, off unless given: stiffness against the spread of a bead's
+    // neighbour distances, which gives the lattice the shear stiffness the paper's
+    // forces lack (doc/pair_cgms.rst)
+    {"k_S", &CGMS::Material::k_S, NONNEGATIVE, false},
 };
 constexpr int NENTRIES = sizeof(entries) / sizeof(entries[0]);
 

@@ -37,6 +37,7 @@ namespace CGMS {
     double rho0 = 0.0;            // fresh fluid density (kg/m^3)
     double L_p = 0.0;             // membrane conductivity (m/(Pa s))
     double solid_ratio = 0.0;     // m_s / m_f at any dryness (paper: 10 %)
+    double k_S = 0.0;             // cell-shape stiffness (N/m); not in the paper, 0 = off
 
     unsigned long given = 0;    // bit k set: parameter k was given
 

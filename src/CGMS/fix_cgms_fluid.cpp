@@ -473,6 +473,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
   const double dt = update->dt;
   const double kT = pair->turgor ? mat.k_T : 0.0;
   const double kPA = pair->perimeter ? mat.k_PA : 0.0;
+  const double kS = mat.k_S;
   const double P_f = mat.P_f, K = mat.K, pectin = mat.pectin, b_ref = mat.b_ref;
   const double inv_h = 1.0 / mat.height;
   const double conductance = mat.height * mat.L_p;    // membrane area l h times L_p, per l
@@ -577,15 +578,20 @@ void FixCGMSFluid::update_fluid_state(int advance)
     c[LDEQ] = ldeq;
     c[DMDT] = dmdt;
     c[COEF] = coef[i] = 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
+    // the cell-shape term's share of bead i, k_S xbar_i (xbar_i = sum_k x_ik / N);
+    // the per-atom output keeps the paper's turgor and perimeter coefficient
+    if (kS > 0.0 && nn > 0.0) coef[i] += kS * sums[2 * i + 1] / nn;
     // with the pressures held, turgor and perimeter forces are the gradient of
     //   E_i = -k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i),
     // g_i = dl_i/dx_ik = (N + beta max(0, 6 - N)) / (sqrt(3) N), as long as no
-    // neighbour crosses the cutoff: so minimize can do line searches on them
+    // neighbour crosses the cutoff: so minimize can do line searches on them.
+    // The cell-shape term adds k_S/2 sum_k (x_ik - xbar_i)^2: its -k_S/2 N xbar_i^2
+    // here, its sum over pairs of k_S x^2 in shape_pair_energy()
     if (balance && nn > 0.0) {
       const double dl_dx = (nn + beta * MAX(0.0, 6.0 - nn)) / (SQRT3 * nn);
       const double excess = perim - ldeq;
-      energy_local +=
-          -0.5 * kT * (press - P_f) * sums[2 * i + 1] + 0.25 * kPA * excess * excess / dl_dx;
+      energy_local += -0.5 * kT * (press - P_f) * sums[2 * i + 1] +
+          0.25 * kPA * excess * excess / dl_dx - 0.5 * kS * sums[2 * i + 1] * sums[2 * i + 1] / nn;
     }
     if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
     // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
@@ -613,6 +619,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
         (unstable < 0 || rmass[i] * cg[unstable][NNEIGH] < rmass[unstable] * nn))
       unstable = i;
   }
+
+  if (balance && kS > 0.0) energy_local += shape_pair_energy(kS);
 
   if (emptied >= 0)
     error->one(FLERR,
@@ -669,13 +677,20 @@ void FixCGMSFluid::damping_limit_error(int i)
   const double nn = store(lmp).cgms[i][NNEIGH];
   // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
   // second-shell bead crossed the cutoff), which a smaller time step does not cure
+  // The paper's forces give the lattice no shear stiffness (doc/validation.md): the
+  // cell-shape term does
+  const double kS = pair->material().k_S;
   if (nn > 6.0)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has {:g} neighbours within the cutoff at step {}, more "
                "than the 6 of a hexagonal tissue: the tissue is collapsing (beads crowding "
                "past the weak LJ repulsion), and the damping is unstable at dt = {:.4g} s; a "
-               "smaller time step does not cure this (doc/validation.md, hard cases)",
-               atom->tag[i], nn, update->ntimestep, update->dt);
+               "smaller time step does not cure this. The paper's forces do not resist shear; "
+               "{} prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)",
+               atom->tag[i], nn, update->ntimestep, update->dt,
+               kS > 0.0 ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
+                        : std::string("a cell-shape stiffness (e.g. k_S 1.0 on the pair_coeff "
+                                      "line) may"));
   error->one(FLERR,
              "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
              "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
@@ -689,6 +704,30 @@ void FixCGMSFluid::damping_limit_error(int i)
    pressures are held at -Pi (minimize, or balance yes); 0 otherwise, when
    turgor and perimeter forces have no potential
 ------------------------------------------------------------------------- */
+
+double FixCGMSFluid::shape_pair_energy(double kS) const
+{
+  // sum over neighbour pairs of k_S x^2 (x counted once from each end), from the
+  // distances pass 1 cached per entry of the half list (0: beyond the cutoff);
+  // without newton_pair a pair with a ghost is in the lists of both of its ranks
+  const double *rdist = store(lmp).rdist;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+  double energy = 0.0;
+  bigint k = 0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const double r = rdist[k++];
+      const int j = jlist[jj] & NEIGHMASK;
+      energy += (newton_pair || j < nlocal ? 1.0 : 0.5) * kS * r * r;
+    }
+  }
+  return energy;
+}
+
+/* ---------------------------------------------------------------------- */
 
 double FixCGMSFluid::compute_scalar()
 {

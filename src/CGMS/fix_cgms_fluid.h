@@ -66,6 +66,7 @@ class FixCGMSFluid : public Fix {
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
   const double *per_bead_values(int, double);
+  double shape_pair_energy(double) const;
   void apply_dryness();
   void initialise_beads();
   void update_fluid_state(int advance);

@@ -231,6 +231,9 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const double f0r = mat.f0_r;
   const double f0a = mat.f0_a;
   const double kd = mat.k_d;
+  // cell-shape stiffness: -k_S (2 x - xbar_i - xbar_k) n, of which the fix puts
+  // k_S xbar_i into the pair coefficient of bead i
+  const double shape_spring = 2.0 * mat.k_S;
   // constant added inside x <= r so that U is continuous at x = r
   // (U there is -f0_a/8 with attraction on, 0 without; U is not shifted at the cutoff)
   const double e_in =
@@ -289,7 +292,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
 
       double fpair = 0.0;
       double evdwl = 0.0;
-      if (PAIRCOEF) fpair += (ci + coef[j]) * r1inv;
+      if (PAIRCOEF) fpair += (ci + coef[j]) * r1inv - shape_spring;
       if (LJ) {
         const double q2 = rad * rad * r2inv;
         const double q4 = q2 * q2;

@@ -49,7 +49,7 @@ class PairCGMS : public Pair {
   // and never read a neighbour's dryness
   void set_uniform_dryness(double s) { uniform_dryness = s; }
   double get_uniform_dryness() const { return uniform_dryness; }
-  bool pair_coefficient_needed() const { return turgor || perimeter; }
+  bool pair_coefficient_needed() const { return turgor || perimeter || mat.k_S > 0.0; }
 
   // effect switches (all on by default)
   int turgor, perimeter, periphery, damping, repulsion, attraction;
