@@ -689,7 +689,7 @@ void FixCGMSFluid::damping_limit_error(int i)
                "{} prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)",
                atom->tag[i], nn, update->ntimestep, update->dt,
                kS > 0.0 ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
-                        : std::string("a cell-shape stiffness (e.g. k_S 1.0 on the pair_coeff "
+                        : std::string("a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
                                       "line) may"));
   error->one(FLERR,
              "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
