@@ -146,3 +146,44 @@ def test_default_and_literal_schemes_share_the_steady_state(tmp_path, scheme, dt
     for key in ("area", "perimeter", "elongation"):  # measured: 3e-10 or less
         assert b[key] == pytest.approx(a[key], rel=1e-8), key
     assert end["moisture"] == pytest.approx(start["moisture"], rel=1e-8)
+
+
+@pytest.mark.parametrize("scheme,dt", [
+    ("", 1e-7),  # the default
+    ("inertia fluid transfer/scheme explicit density rate", 2e-8),  # the paper's literal one
+])
+def test_both_schemes_relax_from_the_lattice_to_the_same_state_with_shape_stiffness(
+        tmp_path, scheme, dt):
+    """Issue 6, from elsewhere: with the cell-shape stiffness k_S 0.5 (an extension, off by
+    default) the soft shear modes that make the paper's model creep are gone, and both
+    schemes, started from the fresh lattice, relax to Newton's state of the same model:
+    after 20 ms A, P, EL within 1e-6 (measured 1.3e-8, 30 ms: 1e-9; issue 6 asks for
+    1e-4), residual below 1e-6."""
+    from cgms import morphology, run, tissue
+    from cgmstest import APPLE, XREF
+    xy = tissue.rectangle(1.25e-3, 1.5e-3, XREF)  # the 86-bead calibration tissue
+    tissue.write_data(tmp_path / "t.data", xy, 4 * XREF)
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_string(run.tissue_script(tmp_path / "t.data", APPLE, 0.3, method="newton",
+                                              overrides="k_S 0.5"))
+        assert run.solve_newton(lmp)["converged"]
+        target = morphology.measures(run.steady_state(lmp)["xy"])
+    finally:
+        lmp.close()
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_string(run.tissue_script(tmp_path / "t.data", APPLE, 0.3, dt=dt,
+                                              fix_args=scheme, overrides="k_S 0.5",
+                                              steady=dict(max_steps=0)))
+        lmp.command("unfix halt")  # a fixed simulated time, not the steady-state test
+        lmp.command(f"run {int(round(0.02 / dt))}")
+        end = run.steady_state(lmp)
+    finally:
+        lmp.close()
+    assert end["residual"] < 1e-6, end["residual"]
+    got = morphology.measures(end["xy"])
+    for key in ("area", "perimeter", "elongation"):
+        assert got[key] == pytest.approx(target[key], rel=1e-6), key
+    # the run did move: the lattice is 10 % or more away from that state in area
+    assert abs(morphology.measures(xy)["area"] / target["area"] - 1) > 0.1
