@@ -107,6 +107,36 @@ def test_estimated_time_step_limit(tmp_path):
             assert "above the stability limit of the damping" in proc.stdout + proc.stderr
 
 
+def test_cell_shape_stiffness_time_step_limit(tmp_path):
+    """k_S (an extension) is a spring network of about 2 k_S per pair: the fix takes
+    sqrt(m / (2 k_S N)) as its limit. On the fresh lattice at 1e-7 s that is k_S = 972 N/m
+    for N = 6; measured on a fresh 10 x 12 tissue: 1000 N/m ran, 1200 ran on to a residual
+    of 26 (garbage) before the check. With k_S 800 it is the smallest limit, f_fl[5]
+    reports it, and the runtime check accepts 0.9 of it and stops at 1.1."""
+    from cgmstest import new_lammps, working_directory
+    make_tissue(tmp_path, jitter=0.0, seed=1, s=1.0)
+    lmp = new_lammps()
+    try:
+        with working_directory(tmp_path):
+            lmp.commands_string(header() + physics(material_overrides="k_S 800"))
+        lmp.command("thermo_style custom step f_fl[5]")
+        lmp.command("run 0")
+        limit = lmp.extract_fix("fl", 0, 1, 4)
+        n = lmp.extract_global("nlocal")
+        m = np.array(lmp.numpy.extract_atom("rmass")[:n])
+        nn = np.array(lmp.numpy.extract_fix("fl", 1, 2))[:n, 2]
+    finally:
+        lmp.close()
+    assert limit == pytest.approx(np.sqrt(m / (2 * 800 * nn)).min(), rel=1e-12)
+    for factor, ok in ((0.9, True), (1.1, False)):
+        script = header() + physics(material_overrides="k_S 800").replace(
+            "timestep 1e-7", f"timestep {factor * limit!r}") + "run 20\n"
+        proc = run_lmp(tmp_path, script, check=False)
+        assert (proc.returncode == 0) == ok, proc.stdout[-2000:]
+        if not ok:
+            assert "stability limit of the cell-shape stiffness k_S = 800" in proc.stdout
+
+
 @pytest.mark.parametrize("scheme,dt,steps", [
     ("", 1e-7, 50000),  # the default: fresh inertia, implicit mass transfer, exact density
     ("inertia fluid transfer/scheme explicit density rate", 2e-8, 250000),  # the paper's

@@ -495,7 +495,13 @@ void FixCGMSFluid::update_fluid_state(int advance)
   const double turgor_bound = dryness_changed ? 4.0 : 16.0;    // (omega dt)^2
   const int after_change = dryness_changed;
   dryness_changed = 0;
-  int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1;
+  // the cell-shape term is a spring network of stiffness about 2 k_S per pair: omega^2
+  // up to 8 k_S N / m, so the explicit step needs 2 k_S N dt^2 < m (the largest stable
+  // k_S measured on a fresh 10 x 12 tissue at 1e-7 s lies between 1000 and 1200 N/m;
+  // this gives 970: the damping uses up part of the margin)
+  const int shape_check = kS > 0.0 && !balance;
+  const double shape_dt2 = 2.0 * kS * dt * dt;
+  int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
   double stiff_ratio = 0.0, stiff_limit = 0.0;
 
   double s_prev = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
@@ -614,6 +620,9 @@ void FixCGMSFluid::update_fluid_state(int advance)
         }
       }
     }
+    if (shape_check && shape_dt2 * nn > rmass[i] &&
+        (shaky < 0 || rmass[i] * cg[shaky][NNEIGH] < rmass[shaky] * nn))
+      shaky = i;
     // damping stability (see damping_limit_error): the smallest m / N fails first
     if (kd_dt * nn > 2.0 * rmass[i] &&
         (unstable < 0 || rmass[i] * cg[unstable][NNEIGH] < rmass[unstable] * nn))
@@ -638,6 +647,13 @@ void FixCGMSFluid::update_fluid_state(int advance)
                "became unstable; reduce the time step (now {:.6g} s)",
                atom->tag[nonfinite], update->ntimestep, dt);
   if (unstable >= 0) damping_limit_error(unstable);
+  if (shaky >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the cell-shape "
+               "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
+               "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
+               dt, kS, update->ntimestep, sqrt(rmass[shaky] / (2.0 * kS * cg[shaky][NNEIGH])),
+               atom->tag[shaky], rmass[shaky], cg[shaky][NNEIGH]);
   if (stiff >= 0 && after_change)
     error->one(FLERR,
                "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
@@ -676,9 +692,8 @@ void FixCGMSFluid::damping_limit_error(int i)
   const double m = atom->rmass[i];
   const double nn = store(lmp).cgms[i][NNEIGH];
   // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
-  // second-shell bead crossed the cutoff), which a smaller time step does not cure
-  // The paper's forces give the lattice no shear stiffness (doc/validation.md): the
-  // cell-shape term does
+  // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
+  // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does
   const double kS = pair->material().k_S;
   if (nn > 6.0)
     error->one(FLERR,
@@ -699,11 +714,7 @@ void FixCGMSFluid::damping_limit_error(int i)
              atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
 }
 
-/* ----------------------------------------------------------------------
-   the quasi-static potential (J) of the last force evaluation while the
-   pressures are held at -Pi (minimize, or balance yes); 0 otherwise, when
-   turgor and perimeter forces have no potential
-------------------------------------------------------------------------- */
+/* ---------------------------------------------------------------------- */
 
 double FixCGMSFluid::shape_pair_energy(double kS) const
 {
@@ -727,7 +738,11 @@ double FixCGMSFluid::shape_pair_energy(double kS) const
   return energy;
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   the quasi-static potential (J) of the last force evaluation while the
+   pressures are held at -Pi (minimize, or balance yes); 0 otherwise, when
+   turgor and perimeter forces have no potential
+------------------------------------------------------------------------- */
 
 double FixCGMSFluid::compute_scalar()
 {
@@ -757,8 +772,8 @@ void FixCGMSFluid::refresh_vector()
   const int nlocal = atom->nlocal;
 
   // the explicit stability limits of update_fluid_state, as squared rates 1/dt^2:
-  // damping (1.5 N k_d / 2 m)^2 and turgor omega^2 / 4, from the neighbour sums of
-  // its last geometry pass
+  // damping (1.5 N k_d / 2 m)^2, turgor omega^2 / 4 and cell shape 2 k_S N / m, from
+  // the neighbour sums of its last geometry pass
   const double kd = pair->damping ? mat.k_d : 0.0;
   const double kT = pair->turgor ? mat.k_T : 0.0;
   const double *sums = store(lmp).sums;
@@ -773,7 +788,8 @@ void FixCGMSFluid::refresh_vector()
       const double q7 = q * q * q * q * q * q * q;
       const double sum_gap = sums[2 * i + 1] - nn * mat.pectin;
       const double omega2 = turgor_omega2(kT, mat.K, q7, rmass[i], sum_gap);
-      local_max[2] = MAX(local_max[2], MAX(damp_rate * damp_rate, 0.25 * omega2));
+      const double shape_rate2 = 2.0 * mat.k_S * nn / rmass[i];
+      local_max[2] = MAX(local_max[2], MAX(MAX(damp_rate * damp_rate, 0.25 * omega2), shape_rate2));
     }
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
     local_max[1] = MAX(local_max[1], v2);

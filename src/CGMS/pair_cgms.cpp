@@ -204,6 +204,7 @@ void PairCGMS::compute(int eflag, int vflag)
      turgor + perimeter: (c_i + c_k) n, c from fix cgms/fluid
      LJ:                 f0 [(r/x)^8 - (r/x)^4] / x^2 (x_i - x_k)
      damping:           -k_d (v_i - v_k)
+     cell shape:        -k_S (2 x - xbar_i - xbar_k) n, k_S xbar_i inside c_i
    the LJ energy U = f0 [(r/x)^8/8 - (r/x)^4/4] plus constants that keep it
    continuous at x = r
 ------------------------------------------------------------------------- */
