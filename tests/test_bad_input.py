@@ -213,6 +213,21 @@ def test_restart_with_a_corrupt_bead_state(restart):
     assert "Fix cgms/fluid: dryness nan of bead 3 is out of range" in error, error
 
 
+def test_restart_from_another_plugin_version(restart):
+    """The material record is stored as bytes after a tag and its size: a file whose
+    record has another size (here: the size field patched, as a version with other
+    parameters would write it) stops with an error instead of being read wrongly."""
+    folder, raw = restart
+    start = raw.find(struct.pack("<i", 0x43474D53))
+    assert start > 0 and raw.count(struct.pack("<i", 0x43474D53)) == 1
+    size = struct.unpack("<i", raw[start + 4:start + 8])[0]
+    assert size % 8 == 0 and size > 100  # the material record: plain doubles
+    patched = raw[:start] + struct.pack("<ii", 0x43474D53, size - 8) + raw[start + 8:]
+    (folder / "bad.restart").write_bytes(patched)
+    error = lammps_error(folder, read_restart_script())
+    assert "restart file was written by another version of the CGMS plugin" in error, error
+
+
 def test_restart_without_the_plugin(restart):
     folder, _ = restart
     error = lammps_error(folder, read_restart_script("good.restart", plugin=False))
