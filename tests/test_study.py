@@ -100,3 +100,22 @@ def test_newton_level_matches_fire_and_logs_progress(small_tissue, tmp_path):
     capped = study.relax(small_tissue, APPLE, 0.4, tmp_path / "c", method="newton",
                          steady=dict(max_steps=2))
     assert capped["steps"] == 2 and not capped["converged"] and capped["fmax"] > 1e-13
+
+
+def test_command_line_material_overrides(tmp_path, capsys):
+    """--set replaces material parameters for every level (here the extension k_S, which
+    moves the dried beads), is checked before anything runs, and a LAMMPS stop ends the
+    command with its ERROR text and exit status 1, not a traceback."""
+    common = ["study", "--width", "0.9", "--height", "0.8", "--dryness", "0.4"]
+    assert cli.main(common + ["--out", str(tmp_path / "plain")]) == 0
+    assert cli.main(common + ["--set", "k_S 0.5", "--out", str(tmp_path / "shape")]) == 0
+    assert "k_S 0.5" in (tmp_path / "shape" / "tissue" / "log.s0.4.lammps").read_text()
+    plain = np.load(tmp_path / "plain" / "tissue" / "level.s0.4.npy")
+    shape = np.load(tmp_path / "shape" / "tissue" / "level.s0.4.npy")
+    assert np.abs(plain - shape).max() > 1e-3 * MAT["x_ref"]
+    with pytest.raises(SystemExit) as stop:
+        cli.main(common + ["--set", "k_S soft", "--out", str(tmp_path / "bad")])
+    assert stop.value.code == 2 and "value 'soft' of k_S is not a number" in capsys.readouterr().err
+    assert not (tmp_path / "bad").exists()
+    assert cli.main(common + ["--set", "k_X 1", "--out", str(tmp_path / "unknown")]) == 1
+    assert "unknown CGMS parameter 'k_X'" in capsys.readouterr().err

@@ -48,13 +48,14 @@ def build(out, width_mm, height_mm, mat, cv=0.0, seed=1):
 
 def dry(out, name, width_mm, height_mm, mat_file, levels, args):
     """One tissue through every level: the table, the curves and the snapshots."""
-    mat = material.read(mat_file)
+    mat = material.with_overrides(material.read(mat_file), args.set)
     folder = out / name
     folder.mkdir(exist_ok=True)
     info = build(folder, width_mm, height_mm, mat, args.cv, args.seed)
     print(f"cgms: {name}: {info['n']} beads ({width_mm} x {height_mm} mm)", flush=True)
     results = study.sweep(info["data"], mat_file, folder, levels, progress=sys.stderr.isatty(),
                           diameters=info["diameters"], method=args.method,
+                          overrides=args.set,
                           steady=dict(residual=args.residual, speed=args.speed,
                                       max_steps=args.max_steps))
     rows = study.table(results)
@@ -116,10 +117,11 @@ def study_job(args):
 def target_job(args):
     out = new_folder(args.out, "target")
     mat_file = material.find(args.material)
-    mat = material.read(mat_file)
+    mat = material.with_overrides(material.read(mat_file), args.set)
     info = build(out, args.width, args.height, mat, args.cv, args.seed)
     result = study.target_moisture(info["data"], mat_file, args.target, out, xtol=args.xtol,
-                                   diameters=info["diameters"], method=args.method)
+                                   diameters=info["diameters"], method=args.method,
+                                   overrides=args.set)
     for s, x in result["evaluations"]:
         print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
     print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
@@ -172,6 +174,19 @@ def calibrate_job(args):
     return calibrate.job(args)
 
 
+def material_overrides(text):
+    """--set: 'name value ...' pairs with numeric values (LAMMPS checks the names)."""
+    words = text.split()
+    if len(words) % 2:
+        raise argparse.ArgumentTypeError(f"expected 'name value' pairs, got {text!r}")
+    for name, value in zip(words[::2], words[1::2]):
+        try:
+            float(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"value {value!r} of {name} is not a number")
+    return text
+
+
 def parser():
     p = argparse.ArgumentParser(prog="cgms", description=__doc__)
     sub = p.add_subparsers(dest="command", required=True)
@@ -179,6 +194,9 @@ def parser():
     def common(q, width=True):
         q.add_argument("--out", help="results folder (default results/<kind>/<date-time>)")
         q.add_argument("--material", default="apple", help="material file (default apple)")
+        q.add_argument("--set", default="", metavar="'NAME VALUE ...'", type=material_overrides,
+                       help="material parameters that replace the file's, as on a pair_coeff "
+                            "line, e.g. --set 'k_S 0.5' (doc/pair_cgms.rst)")
         if width:
             q.add_argument("--width", type=float, default=1.5, help="tissue width, mm")
             q.add_argument("--height", type=float, default=1.5, help="tissue height, mm")
@@ -227,4 +245,10 @@ def parser():
 
 def main(argv=None):
     args = parser().parse_args(argv)
-    return args.func(args)
+    try:
+        return args.func(args)
+    except (RuntimeError, ValueError, FileNotFoundError) as err:
+        # a LAMMPS stop (its ERROR text is in the message) or a bad input: say it, with
+        # no traceback; the results written so far stay in the output folder
+        print(f"cgms: {err}", file=sys.stderr)
+        return 1
