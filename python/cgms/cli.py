@@ -4,6 +4,7 @@ dryness that reaches a given moisture; ``calibrate`` fits material parameters to
 centroid positions (eqn 2); ``sensitivity`` runs the paper's sensitivity study."""
 
 import argparse
+import os
 import sys
 from datetime import datetime
 from pathlib import Path
@@ -174,6 +175,13 @@ def calibrate_job(args):
     return calibrate.job(args)
 
 
+def positive_int(text):
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
+    return value
+
+
 def material_overrides(text):
     """--set: 'name value ...' pairs with numeric values (LAMMPS checks the names)."""
     words = text.split()
@@ -205,7 +213,7 @@ def parser():
         q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
         q.add_argument("--residual", type=float, default=1e-3, help="steady-state residual")
         q.add_argument("--speed", type=float, default=1e-3, help="steady-state speed, m/s")
-        q.add_argument("--max-steps", type=int, default=2000000,
+        q.add_argument("--max-steps", type=positive_int, default=2000000,
                        help="step (or minimiser iteration; Newton: at most 60) limit per level")
         q.add_argument("--method", choices=("quasistatic", "newton", "dynamics"),
                        default="quasistatic",
@@ -249,6 +257,8 @@ def main(argv=None):
         return args.func(args)
     except (RuntimeError, ValueError, FileNotFoundError) as err:
         # a LAMMPS stop (its ERROR text is in the message) or a bad input: say it, with
-        # no traceback; the results written so far stay in the output folder
-        print(f"cgms: {err}", file=sys.stderr)
+        # no traceback (CGMS_DEBUG=1 shows it); the results so far stay in the folder
+        if os.environ.get("CGMS_DEBUG"):
+            raise
+        print(f"cgms: {err} (CGMS_DEBUG=1 shows the traceback)", file=sys.stderr)
         return 1

@@ -500,6 +500,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
   // k_S measured on a fresh 10 x 12 tissue at 1e-7 s lies between 1000 and 1200 N/m;
   // this gives 970: the damping uses up part of the margin)
   const int shape_check = kS > 0.0 && !balance;
+  // its energy is needed only where LAMMPS tallies energies (a second walk over the list)
+  const int shape_energy = kS > 0.0 && (balance || update->eflag_global == update->ntimestep);
   const double shape_dt2 = 2.0 * kS * dt * dt;
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
   double stiff_ratio = 0.0, stiff_limit = 0.0;
@@ -591,14 +593,16 @@ void FixCGMSFluid::update_fluid_state(int advance)
     //   E_i = -k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i),
     // g_i = dl_i/dx_ik = (N + beta max(0, 6 - N)) / (sqrt(3) N), as long as no
     // neighbour crosses the cutoff: so minimize can do line searches on them.
-    // The cell-shape term adds k_S/2 sum_k (x_ik - xbar_i)^2: its -k_S/2 N xbar_i^2
-    // here, its sum over pairs of k_S x^2 in shape_pair_energy()
     if (balance && nn > 0.0) {
       const double dl_dx = (nn + beta * MAX(0.0, 6.0 - nn)) / (SQRT3 * nn);
       const double excess = perim - ldeq;
-      energy_local += -0.5 * kT * (press - P_f) * sums[2 * i + 1] +
-          0.25 * kPA * excess * excess / dl_dx - 0.5 * kS * sums[2 * i + 1] * sums[2 * i + 1] / nn;
+      energy_local +=
+          -0.5 * kT * (press - P_f) * sums[2 * i + 1] + 0.25 * kPA * excess * excess / dl_dx;
     }
+    // The cell-shape energy k_S/2 sum_k (x_ik - xbar_i)^2 does not depend on the
+    // pressures: it is a potential in any run. Its -k_S/2 N xbar_i^2 here, its sum
+    // over pairs of k_S x^2 in shape_pair_energy()
+    if (shape_energy && nn > 0.0) energy_local -= 0.5 * kS * sums[2 * i + 1] * sums[2 * i + 1] / nn;
     if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
     // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
     // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
@@ -629,7 +633,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
       unstable = i;
   }
 
-  if (balance && kS > 0.0) energy_local += shape_pair_energy(kS);
+  if (shape_energy) energy_local += shape_pair_energy(kS);
 
   if (emptied >= 0)
     error->one(FLERR,

@@ -362,18 +362,21 @@ void PairCGMS::read_restart_settings(FILE *fp)
 }
 
 /* ----------------------------------------------------------------------
-   the material is plain doubles: store it as bytes, after a tag and the
-   record's size, so that a restart file of a plugin version with other
-   parameters stops with an error instead of being read wrongly
+   the material is plain doubles: store it as bytes, after a tag, a format
+   version and the record's size, so that a restart file of a plugin version
+   with other parameters stops with an error instead of being read wrongly
 ------------------------------------------------------------------------- */
 
 static constexpr int MATERIAL_RECORD_TAG = 0x43474d53;    // "CGMS"
+// raise this whenever the fields of CGMS::Material change (1: k_S added)
+static constexpr int MATERIAL_RECORD_VERSION = 1;
 
 void PairCGMS::write_restart(FILE *fp)
 {
   write_restart_settings(fp);
-  const int header[2] = {MATERIAL_RECORD_TAG, static_cast<int>(sizeof(mat))};
-  fwrite(header, sizeof(int), 2, fp);
+  const int header[3] = {MATERIAL_RECORD_TAG, MATERIAL_RECORD_VERSION,
+                         static_cast<int>(sizeof(mat))};
+  fwrite(header, sizeof(int), 3, fp);
   fwrite(&mat, sizeof(mat), 1, fp);
 }
 
@@ -381,15 +384,16 @@ void PairCGMS::read_restart(FILE *fp)
 {
   read_restart_settings(fp);
   allocate();
-  int header[2] = {0, 0};
-  if (comm->me == 0) utils::sfread(FLERR, header, sizeof(int), 2, fp, nullptr, error);
-  MPI_Bcast(header, 2, MPI_INT, 0, world);
-  if (header[0] != MATERIAL_RECORD_TAG || header[1] != static_cast<int>(sizeof(mat)))
+  int header[3] = {0, 0, 0};
+  if (comm->me == 0) utils::sfread(FLERR, header, sizeof(int), 3, fp, nullptr, error);
+  MPI_Bcast(header, 3, MPI_INT, 0, world);
+  if (header[0] != MATERIAL_RECORD_TAG || header[1] != MATERIAL_RECORD_VERSION ||
+      header[2] != static_cast<int>(sizeof(mat)))
     error->all(FLERR,
                "Pair cgms: this restart file was written by another version of the CGMS "
-               "plugin (its material record does not match this version's {} bytes); start "
-               "from a data file, or read it with the plugin that wrote it",
-               sizeof(mat));
+               "plugin (its material record does not match this version's: format {}, {} "
+               "bytes); start from a data file, or read it with the plugin that wrote it",
+               MATERIAL_RECORD_VERSION, sizeof(mat));
   if (comm->me == 0) utils::sfread(FLERR, &mat, sizeof(mat), 1, fp, nullptr, error);
   MPI_Bcast(&mat, sizeof(mat), MPI_BYTE, 0, world);
   for (int i = 1; i <= atom->ntypes; i++)
