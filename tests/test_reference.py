@@ -130,7 +130,11 @@ def test_cell_shape_stiffness_matches_reference(tmp_path):
     for name in DERIVED:
         assert_close(name, state[name], fluid[name])
     assert_close("force (k_S)", state["f"], f)
-    assert_close("energy (k_S)", state["pe"], pe)
+    # pe holds the LJ energy and, through the fix, k_S/2 sum_i sum_k (x_ik - xbar_i)^2
+    _, dist, adj = reference.pair_geometry(state["x"], state["dryness"], mat, CUTOFF)
+    xbar = np.where(adj, dist, 0.0).sum(axis=1) / adj.sum(axis=1)
+    shape = 0.25 * np.sum(np.where(adj, dist - xbar[:, None], 0.0) ** 2)
+    assert_close("energy (k_S)", state["pe"], pe + shape)
     assert_close("virial (k_S)", state["virial"], np.array([vir[0, 0], vir[1, 1], vir[0, 1]]))
     # (measured: 4e-3 of the largest force, against the 1e-10 agreement above)
     assert np.max(np.abs(state["f"] - plain["f"])) > 1e-3 * np.max(np.abs(plain["f"]))

@@ -98,13 +98,20 @@ def test_estimated_time_step_limit(tmp_path):
     omega = np.sqrt(56 * MAT["k_T"] * MAT["K"] * (rho / (s * MAT["rho0"])) ** 7 / (m * sum_gap))
     assert limit == pytest.approx(min(damping.min(), (2 / omega).min()), rel=1e-12)
     assert limit == pytest.approx(damping.min(), rel=1e-12)  # damping is what limits here
+    runs_below_stops_above(tmp_path, physics(fix_args="inertia fluid"), limit, 20,
+                           "above the stability limit of the damping")
+
+
+def runs_below_stops_above(folder, physics_text, limit, steps, message):
+    """A run at 0.9 of a time-step limit goes ``steps`` steps; at 1.1 of it the fix's
+    runtime check stops it with ``message``."""
     for factor, ok in ((0.9, True), (1.1, False)):
-        script = header() + physics(fix_args="inertia fluid").replace(
-            "timestep 1e-7", f"timestep {factor * limit!r}") + "run 20\n"
-        proc = run_lmp(tmp_path, script, check=False)
+        script = header() + physics_text.replace(
+            "timestep 1e-7", f"timestep {factor * limit!r}") + f"run {steps}\n"
+        proc = run_lmp(folder, script, check=False)
         assert (proc.returncode == 0) == ok, proc.stdout[-2000:]
         if not ok:
-            assert "above the stability limit of the damping" in proc.stdout + proc.stderr
+            assert message in proc.stdout + proc.stderr
 
 
 def test_cell_shape_stiffness_time_step_limit(tmp_path):
@@ -131,13 +138,8 @@ def test_cell_shape_stiffness_time_step_limit(tmp_path):
     # 0.9 of the limit runs 3 000 steps (the stiffest mode's period is a few steps
     # there: a blow-up would show), 1.1 is stopped by the check. That 1200 N/m at 1e-7 s
     # went wrong without an error was measured before the check existed.
-    for factor, ok in ((0.9, True), (1.1, False)):
-        script = header() + physics(material_overrides="k_S 800").replace(
-            "timestep 1e-7", f"timestep {factor * limit!r}") + "run 3000\n"
-        proc = run_lmp(tmp_path, script, check=False)
-        assert (proc.returncode == 0) == ok, proc.stdout[-2000:]
-        if not ok:
-            assert "stability limit of the cell-shape stiffness k_S = 800" in proc.stdout
+    runs_below_stops_above(tmp_path, physics(material_overrides="k_S 800"), limit, 3000,
+                           "stability limit of the cell-shape stiffness k_S = 800")
 
 
 @pytest.mark.parametrize("scheme,dt,steps", [
