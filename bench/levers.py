@@ -33,7 +33,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
-from cgms import material, morphology, run, tissue  # noqa: E402
+from cgms import calibrate, material, morphology, run, tissue  # noqa: E402
 
 APPLE = ROOT / "potentials" / "apple.cgms"
 
@@ -80,11 +80,9 @@ def solve(data, s, method, options, ftol=1e-13):
 
 
 def score(xy, ref, x_ref):
-    a, b = xy - xy.mean(0), ref - ref.mean(0)
-    u, _, vt = np.linalg.svd(a.T @ b)
-    a = a @ (u @ vt)
-    ma, mb = morphology.measures(a), morphology.measures(b)
-    out = {"max_disp/x_ref": np.abs(a - b).max() / x_ref}
+    a = calibrate.align(xy, ref, "rigid")  # the best rotation and shift onto ref
+    ma, mb = morphology.measures(a), morphology.measures(ref)
+    out = {"max_disp/x_ref": np.abs(a - ref).max() / x_ref}
     for key in ("area", "perimeter", "elongation"):
         out[f"d_{key}"] = ma[key] / mb[key] - 1
     return out

@@ -185,13 +185,13 @@ def test_newton_on_cgms_agrees_with_fire(tmp_path):
         finally:
             lmp.close()
     # FIRE may turn the tissue as a whole (the potential does not change); Newton's
-    # steps carry no rigid motion: compare after the best rigid superposition (Kabsch)
-    a, b = (states[m] - states[m].mean(0) for m in ("newton", "quasistatic"))
-    u, _, vt = np.linalg.svd(a.T @ b)
-    rotation = u @ vt
-    diff = np.abs(a @ rotation - b).max() / XREF
+    # steps carry no rigid motion: compare after the best rigid superposition
+    from cgms import calibrate
+    b = states["quasistatic"]
+    a = calibrate.align(states["newton"], b, "rigid")
+    diff = np.abs(a - b).max() / XREF
     assert diff < 1e-5, diff
-    ma, mb = morphology.measures(a @ rotation), morphology.measures(b)
+    ma, mb = morphology.measures(a), morphology.measures(b)
     for key in ("area", "perimeter", "elongation"):
         assert ma[key] == pytest.approx(mb[key], rel=1e-5), key
 

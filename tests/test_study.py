@@ -119,3 +119,17 @@ def test_command_line_material_overrides(tmp_path, capsys):
     assert not (tmp_path / "bad").exists()
     assert cli.main(common + ["--set", "k_X 1", "--out", str(tmp_path / "unknown")]) == 1
     assert "unknown CGMS parameter 'k_X'" in capsys.readouterr().err
+
+
+def test_material_overrides_rederive_the_reference_cell():
+    """--set 'diameter ...' changes x_ref and, like the plugin (r0 = 0 selects x_ref), the
+    default LJ radius with it; a given r0 is kept; a new name (k_S) is added."""
+    from cgms import material
+    mat = material.read(APPLE)
+    bigger = material.with_overrides(mat, "diameter 1.6e-4 k_S 0.5")
+    assert bigger["x_ref"] > mat["x_ref"]
+    assert bigger["r0"] == bigger["x_ref"] and bigger["k_S"] == 0.5
+    fixed = material.with_overrides(mat, "r0 1e-4 diameter 1.6e-4")
+    assert fixed["r0"] == 1e-4
+    with pytest.raises(ValueError, match="pairs"):
+        material.with_overrides(mat, "k_S")

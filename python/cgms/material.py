@@ -49,7 +49,10 @@ def with_overrides(mat, overrides=""):
     words = overrides.split()
     if len(words) % 2:
         raise ValueError(f"overrides must be 'name value' pairs, got {overrides!r}")
-    params = {k: v for k, v in mat.items() if k not in ("A_ref", "b_ref", "l_ref", "x_ref")}
+    derived = {"A_ref", "b_ref", "l_ref", "x_ref"}
+    if mat.get("r0") == mat.get("x_ref"):
+        derived.add("r0")  # the default r0 = x_ref follows a changed diameter or pectin
+    params = {k: v for k, v in mat.items() if k not in derived}
     params.update({words[i]: float(words[i + 1]) for i in range(0, len(words), 2)})
     return derive(params)
 

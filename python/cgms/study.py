@@ -27,6 +27,7 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     name = level_name(dryness)
+    max_steps = dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"]
     start = time.perf_counter()
     lmp = run.open_lammps(log=out / f"log.{name}.lammps")
     try:
@@ -42,9 +43,8 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
             # --max-steps bounds the iterations too: a lever for large tissues, where
             # Newton lands near the dynamics' shape in a few iterations and then creeps
             # (doc/performance.md)
-            limit = min(60, dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"])
             with open(out / f"newton.{name}.log", "w") as fh:
-                solver = run.solve_newton(lmp, dump=dump, max_iterations=limit,
+                solver = run.solve_newton(lmp, dump=dump, max_iterations=min(60, max_steps),
                                           spacing=material_file.steady_spacing(mat, dryness),
                                           log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
@@ -56,7 +56,6 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
                            f"{out / f'log.{name}.lammps'}).{hint}") from err
     finally:
         lmp.close()
-    max_steps = dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"]
     state.update(dryness=dryness, seconds=time.perf_counter() - start, method=method,
                  converged=bool(state["steps"] < max_steps))
     if solver:

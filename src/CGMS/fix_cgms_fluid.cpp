@@ -56,6 +56,23 @@ static inline double turgor_omega2(double kT, double K, double q7, double m, dou
 }
 
 /* ----------------------------------------------------------------------
+   the largest stable time steps of a bead of inertial mass m with nn
+   neighbours (see update_fluid_state, which checks them without divisions):
+   relative-velocity damping 2 m / (1.5 N k_d), cell-shape springs
+   sqrt(m / (2 k_S N)); the turgor limit is 2 / omega
+------------------------------------------------------------------------- */
+
+static inline double damping_dt_limit(double m, double nn, double kd)
+{
+  return 2.0 * m / (1.5 * nn * kd);
+}
+
+static inline double shape_dt_limit(double m, double nn, double kS)
+{
+  return sqrt(m / (2.0 * kS * nn));
+}
+
+/* ----------------------------------------------------------------------
    a keyword with two values: 0 for the first, 1 for the second (the error
    lists them in this order)
 ------------------------------------------------------------------------- */
@@ -656,7 +673,7 @@ void FixCGMSFluid::update_fluid_state(int advance)
                "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the cell-shape "
                "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
                "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
-               dt, kS, update->ntimestep, sqrt(rmass[shaky] / (2.0 * kS * cg[shaky][NNEIGH])),
+               dt, kS, update->ntimestep, shape_dt_limit(rmass[shaky], cg[shaky][NNEIGH], kS),
                atom->tag[shaky], rmass[shaky], cg[shaky][NNEIGH]);
   if (stiff >= 0 && after_change)
     error->one(FLERR,
@@ -714,7 +731,7 @@ void FixCGMSFluid::damping_limit_error(int i)
              "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
              "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
              "use a smaller timestep{}",
-             update->dt, update->ntimestep, 2.0 * m / (1.5 * pair->material().k_d * nn),
+             update->dt, update->ntimestep, damping_dt_limit(m, nn, pair->material().k_d),
              atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
 }
 
@@ -775,9 +792,8 @@ void FixCGMSFluid::refresh_vector()
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
 
-  // the explicit stability limits of update_fluid_state, as squared rates 1/dt^2:
-  // damping (1.5 N k_d / 2 m)^2, turgor omega^2 / 4 and cell shape 2 k_S N / m, from
-  // the neighbour sums of its last geometry pass
+  // the explicit stability limits of update_fluid_state (damping, turgor, cell shape),
+  // from the neighbour sums of its last geometry pass; reduced as rates 1/dt^2
   const double kd = pair->damping ? mat.k_d : 0.0;
   const double kT = pair->turgor ? mat.k_T : 0.0;
   const double *sums = store(lmp).sums;
@@ -787,13 +803,16 @@ void FixCGMSFluid::refresh_vector()
     local_max[0] = MAX(local_max[0], fabs(c[PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = c[NNEIGH];
     if (nn > 0.0 && sums) {
-      const double damp_rate = 0.75 * nn * kd / rmass[i];
-      const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
-      const double q7 = q * q * q * q * q * q * q;
-      const double sum_gap = sums[2 * i + 1] - nn * mat.pectin;
-      const double omega2 = turgor_omega2(kT, mat.K, q7, rmass[i], sum_gap);
-      const double shape_rate2 = 2.0 * mat.k_S * nn / rmass[i];
-      local_max[2] = MAX(local_max[2], MAX(MAX(damp_rate * damp_rate, 0.25 * omega2), shape_rate2));
+      double limit = HUGE_VAL;
+      if (kd > 0.0) limit = MIN(limit, damping_dt_limit(rmass[i], nn, kd));
+      if (kT > 0.0) {
+        const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
+        const double q7 = q * q * q * q * q * q * q;
+        const double sum_gap = sums[2 * i + 1] - nn * mat.pectin;
+        limit = MIN(limit, 2.0 / sqrt(turgor_omega2(kT, mat.K, q7, rmass[i], sum_gap)));
+      }
+      if (mat.k_S > 0.0) limit = MIN(limit, shape_dt_limit(rmass[i], nn, mat.k_S));
+      local_max[2] = MAX(local_max[2], 1.0 / (limit * limit));
     }
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
     local_max[1] = MAX(local_max[1], v2);
