@@ -21,7 +21,7 @@ jobs=$(nproc 2>/dev/null || echo 2)
 LAMMPS_DEB_VERSION=20250204+dfsg.1-2
 LAMMPS_ORIG=lammps_20250204+dfsg.1.orig.tar.xz
 LAMMPS_SHA256=3671165bd52fad36734e0a9136c5bc5ecb225e03988f8c89aa13366a8b53b1c7
-LAMMPS_OPTIONS="-DPKG_PLUGIN=on -DBUILD_SHARED_LIBS=on -DBUILD_MPI=on -DBUILD_OMP=on -DLAMMPS_EXCEPTIONS=on -DCMAKE_BUILD_TYPE=Release"
+LAMMPS_OPTIONS="-DPKG_PLUGIN=on -DPKG_SPH=on -DPKG_MOLECULE=on -DPKG_EXTRA-PAIR=on -DBUILD_SHARED_LIBS=on -DBUILD_MPI=on -DBUILD_OMP=on -DLAMMPS_EXCEPTIONS=on -DCMAKE_BUILD_TYPE=Release"
 
 say() { printf '[cgms setup] %s\n' "$*" >&2; }
 die() { printf '[cgms setup] ERROR: %s\n' "$*" >&2; exit 1; }
