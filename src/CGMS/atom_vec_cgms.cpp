@@ -7,6 +7,7 @@
 #include "atom.h"
 #include "cgms_store.h"
 #include "error.h"
+#include "modify.h"
 
 #include <cstring>
 
@@ -44,6 +45,33 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullp
   fields_data_vel = {"id", "v"};
 
   setup_fields();
+}
+
+/* ----------------------------------------------------------------------
+   read_data can hand a data-file section only to a fix that exists before
+   the box, and LAMMPS allows that only for fix property/atom: define one that
+   receives the fluid state section (read_data file fix CGMS NULL CGMS).
+   fix cgms/fluid writes that section and takes the values over at setup.
+------------------------------------------------------------------------- */
+
+void AtomVecCGMS::process_args(int narg, char **arg)
+{
+  AtomVec::process_args(narg, arg);
+  if (modify->get_fix_by_id(CGMS::DATA_FIX)) return;    // atom_style given again
+
+  // fix property/atom records the atom style's name, which Atom::create_avec sets
+  // only after this call returns: lend it the name meanwhile (create_avec then
+  // replaces the pointer without freeing it)
+  static char style_name[] = "cgms";
+  atom->atom_style = style_name;
+  try {
+    modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata no",
+                                      CGMS::DATA_FIX, CGMS::DATA_PROPERTY, CGMS::NDATA));
+  } catch (...) {
+    atom->atom_style = nullptr;
+    throw;
+  }
+  atom->atom_style = nullptr;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -40,6 +40,17 @@ namespace CGMS {
   // per-atom array, in column order.
   extern const char *const column_names[NCOLUMNS];
 
+  // The fluid state a data file carries (write_data writes it as the section
+  // DATA_SECTION through fix cgms/fluid; read_data reads it into the per-atom
+  // array DATA_PROPERTY of the fix property/atom DATA_FIX that atom_style cgms
+  // defines, as 'read_data file fix CGMS NULL CGMS'); the other columns are
+  // recomputed at setup from these and the positions
+  constexpr int DATA_COLUMNS[] = {DRYNESS, MF, MS, MF0, L0P, RHO, AREA, DMDT};
+  constexpr int NDATA = sizeof(DATA_COLUMNS) / sizeof(DATA_COLUMNS[0]);
+  constexpr char DATA_SECTION[] = "CGMS";
+  constexpr char DATA_FIX[] = "CGMS";
+  constexpr char DATA_PROPERTY[] = "cgms_data";
+
   // Storage for the per-bead array, one per LAMMPS instance. It must live
   // outside the AtomVec object: LAMMPS keeps the address of the pointer and
   // frees through it after the AtomVec is gone (atom_style changes, restarts).

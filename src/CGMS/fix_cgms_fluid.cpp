@@ -14,6 +14,7 @@
 #include "input.h"
 #include "math_const.h"
 #include "memory.h"
+#include "min.h"
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
@@ -95,7 +96,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
     dryness_changed(0), comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0),
-    vector_step(-1)
+    vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -170,6 +171,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   peratom_freq = 1;
   comm_forward = 1;
   comm_reverse = 2;
+  wd_section = 1;    // the fluid state travels with write_data
 
   array_atom = store(lmp).cgms;
   atom->add_callback(Atom::GROW);
@@ -215,7 +217,54 @@ void FixCGMSFluid::init()
   dryness_ivar = find_variable(dryness_var, "dryness");
   diameter_ivar = find_variable(diameter_var, "diameter");
 
+  // the fluid state is updated once per step in pre_force; rRESPA's inner levels
+  // would compute forces from a state it never prepares
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR,
+               "Fix cgms/fluid does not support run_style {}: CGMS forces have one time scale; "
+               "use run_style verlet",
+               update->integrate_style);
+  if (update->whichflag == 1 && !(update->dt > 0.0))
+    error->all(FLERR,
+               "Fix cgms/fluid requires a positive time step (timestep is {:.6g} s): CGMS "
+               "integrates forward in time",
+               update->dt);
+  if (update->whichflag == 2) limit_minimizer_step();
+
   neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   LAMMPS's default largest move per minimizer step, dmax = 0.1, is meant for
+   Angstroms; in SI units it is 0.1 m, a whole tissue, and the first line
+   search throws the beads apart. A dmax above one cell is never meant for
+   CGMS: bound it to 1 % of the lattice spacing (min_modify dmax sets it).
+------------------------------------------------------------------------- */
+
+namespace {
+struct MinDmax : public LAMMPS_NS::Min {
+  // Min::dmax is protected and has no accessor; a member pointer of a derived
+  // class may read it
+  static double get(LAMMPS_NS::Min *min) { return min->*(&MinDmax::dmax); }
+};
+}    // namespace
+
+void FixCGMSFluid::limit_minimizer_step()
+{
+  if (!update->minimize || !pair) return;
+  const double x_ref = pair->material().x_ref;
+  const double dmax = MinDmax::get(update->minimize);
+  if (dmax <= x_ref) return;
+  std::string value = fmt::format("{:.3g}", 0.01 * x_ref);
+  char key[] = "dmax";
+  char *args[2] = {key, value.data()};
+  update->minimize->modify_params(2, args);
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/fluid: min_modify dmax {:g} m is larger than a cell (x_ref = {:.3g} "
+                   "m; LAMMPS's default 0.1 is meant for Angstroms); minimizing with dmax {} m "
+                   "(set min_modify dmax ~1e-6 to choose it yourself)",
+                   dmax, x_ref, value);
 }
 
 /* ----------------------------------------------------------------------
@@ -257,9 +306,13 @@ void FixCGMSFluid::setup_pre_force(int)
 {
   array_atom = store(lmp).cgms;
   vector_step = -1;    // the state may have changed between runs at the same step
+  check_setup_input();
+  const bigint loaded = load_data_file_state();
   apply_dryness();
-  initialise_beads();
+  const bigint fresh = initialise_beads();
   update_fluid_state(0);
+  if (fresh > 0 && loaded == 0) warn_if_dried(fresh);
+  setup_done = 1;
 }
 
 void FixCGMSFluid::pre_force(int)
@@ -332,8 +385,39 @@ void FixCGMSFluid::apply_dryness()
   double all[2];
   MPI_Allreduce(range, all, 2, MPI_DOUBLE, MPI_MAX, world);
   pair->set_uniform_dryness(-all[0] == all[1] ? all[1] : -1.0);
+  check_dryness_range(-all[0], all[1]);
 
   forward(DRYNESS);
+}
+
+/* ----------------------------------------------------------------------
+   the model's dryness laws hold only where they stay positive: the LJ radius
+   r0 (1 + lj_slope ln s) and the periphery factor beta_a + beta_b ln s. Both
+   are monotonic in s, so the extremes of the range decide.
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_dryness_range(double s_min, double s_max)
+{
+  const Material &mat = pair->material();
+  for (double s : {s_min, s_max}) {
+    if (!(mat.lj_radius(s) > 0.0))
+      error->all(FLERR,
+                 "Fix cgms/fluid: at dryness {:.6g} the LJ radius r0 (1 + lj_slope ln s) = {:.4g} "
+                 "m is not positive; this material (lj_slope {:g}) needs a dryness above "
+                 "exp(-1/lj_slope) = {:.4g}",
+                 s, mat.lj_radius(s), mat.lj_slope, exp(-1.0 / mat.lj_slope));
+    if (pair->periphery && !(mat.beta(s) > 0.0)) {
+      const std::string lowest = mat.beta_b > 0.0
+          ? fmt::format("needs a dryness above exp(-beta_a/beta_b) = {:.4g}",
+                        exp(-mat.beta_a / mat.beta_b))
+          : std::string("gives no positive beta at this dryness; check beta_a and beta_b");
+      error->all(FLERR,
+                 "Fix cgms/fluid: at dryness {:.6g} the periphery factor beta = beta_a + "
+                 "beta_b ln s = {:.4g} is not positive (boundary cells would get a negative "
+                 "side); this material (beta_a {:g}, beta_b {:g}) {}",
+                 s, mat.beta(s), mat.beta_a, mat.beta_b, lowest);
+    }
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -341,7 +425,7 @@ void FixCGMSFluid::apply_dryness()
    reference cell at their dryness (MODEL.md section 3)
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::initialise_beads()
+bigint FixCGMSFluid::initialise_beads()
 {
   const Material &mat = pair->material();
   double **cg = store(lmp).cgms;
@@ -351,9 +435,11 @@ void FixCGMSFluid::initialise_beads()
       per_bead_values(diameter_ivar, diameter_value > 0.0 ? diameter_value : mat.diameter);
 
   int bad = -1;
+  bigint fresh = 0;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
     if (c[MF0] <= 0.0) {
+      fresh++;
       // the reference cell of MODEL.md 3, for this bead's cell diameter
       const double d = diameter[i];
       if (!(d > 0.0) && bad < 0) bad = i;
@@ -374,6 +460,105 @@ void FixCGMSFluid::initialise_beads()
   if (bad >= 0)
     error->one(FLERR, "Fix cgms/fluid: cell diameter {} of bead {} must be > 0", diameter[bad],
                atom->tag[bad]);
+  bigint all = 0;
+  MPI_Allreduce(&fresh, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  return all;
+}
+
+/* ----------------------------------------------------------------------
+   beads without a fluid state take the one a data file brought (read_data
+   ... fix CGMS NULL CGMS); returns how many did, over all ranks
+------------------------------------------------------------------------- */
+
+bigint FixCGMSFluid::load_data_file_state()
+{
+  int flag, cols;
+  const int index = atom->find_custom(DATA_PROPERTY, flag, cols);
+  bigint loaded = 0;
+  if (index >= 0 && flag == 1 && cols == NDATA) {
+    double **data = atom->darray[index];
+    double **cg = store(lmp).cgms;
+    int mf0_column = 0;
+    for (int k = 0; k < NDATA; k++)
+      if (DATA_COLUMNS[k] == MF0) mf0_column = k;
+    for (int i = 0; i < atom->nlocal; i++) {
+      if (cg[i][MF0] > 0.0 || !(data[i][mf0_column] > 0.0)) continue;
+      for (int k = 0; k < NDATA; k++) cg[i][DATA_COLUMNS[k]] = data[i][k];
+      data[i][mf0_column] = 0.0;    // taken over: the bead's own state rules from now on
+      loaded++;
+    }
+  }
+  bigint all = 0;
+  MPI_Allreduce(&loaded, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  return all;
+}
+
+/* ----------------------------------------------------------------------
+   a tissue read from a data file without the fluid state starts fresh at
+   its dryness; if its beads sit much closer than the fresh cells they got,
+   it was most likely dried before and written without the state
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::warn_if_dried(bigint fresh)
+{
+  if (!pair->pair_coefficient_needed() && !transfer) return;    // no geometry computed
+  const Material &mat = pair->material();
+  double **cg = store(lmp).cgms;
+  // interior beads (six neighbours or more): their side against the reference side
+  double local[2] = {0.0, 0.0}, global[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (cg[i][NNEIGH] < 6.0) continue;
+    const double b_ref = cg[i][L0P] / (6.0 * mat.turgid_ratio);
+    local[0] += cg[i][SIDE] / b_ref;
+    local[1] += 1.0;
+  }
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
+  if (global[1] == 0.0) return;
+  const double ratio = global[0] / global[1];
+  if (ratio < 0.9 && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/fluid: {} beads start from the fresh reference cell, but the "
+                   "cells are {:.0f} % smaller in side than that cell: if this tissue was dried "
+                   "and written by write_data, its fluid state is lost; read the data file "
+                   "with 'read_data FILE fix {} NULL {}' (files written by write_data with "
+                   "fix cgms/fluid defined carry it)",
+                   fresh, 100.0 * (1.0 - ratio), DATA_FIX, DATA_SECTION);
+}
+
+/* ----------------------------------------------------------------------
+   write_data: the section DATA_SECTION, one line "id value ..." per bead with
+   the DATA_COLUMNS of its state, at full precision
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::write_data_section_size(int, int &nx, int &ny)
+{
+  nx = atom->nlocal;
+  ny = NDATA + 1;
+}
+
+void FixCGMSFluid::write_data_section_pack(int, double **buf)
+{
+  double **cg = store(lmp).cgms;
+  for (int i = 0; i < atom->nlocal; i++) {
+    buf[i][0] = ubuf(atom->tag[i]).d;
+    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = cg[i][DATA_COLUMNS[k]];
+  }
+}
+
+void FixCGMSFluid::write_data_section_keyword(int, FILE *fp)
+{
+  std::string hint;
+  for (int k = 0; k < NDATA; k++) hint += std::string(" ") + column_names[DATA_COLUMNS[k]];
+  fmt::print(fp, "\n{} # id{}\n\n", DATA_SECTION, hint);
+}
+
+void FixCGMSFluid::write_data_section(int, FILE *fp, int n, double **buf, int)
+{
+  for (int i = 0; i < n; i++) {
+    std::string line = fmt::format("{}", (tagint) ubuf(buf[i][0]).i);
+    for (int k = 1; k <= NDATA; k++) line += fmt::format(" {}", buf[i][k]);
+    fmt::print(fp, "{}\n", line);
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -481,6 +666,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
   st.rdist_list = list->firstneigh;
   st.rdist_valid = 1;
   if (newton_pair) comm->reverse_comm(this);
+  // before the stability checks below, which would blame the time step
+  if (update->setupflag) check_setup_geometry(sums);
 
   // pass 2: per-bead fluid state. Divisions are the cost here: constants
   // are hoisted, quantities that depend only on the dryness are recomputed
@@ -521,11 +708,16 @@ void FixCGMSFluid::update_fluid_state(int advance)
   const int shape_energy = kS > 0.0 && (balance || update->eflag_global == update->ntimestep);
   const double shape_dt2 = 2.0 * kS * dt * dt;
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
+  int fresh = -1;
   double stiff_ratio = 0.0, stiff_limit = 0.0;
 
   double s_prev = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
+    if (c[MF0] <= 0.0) {
+      if (fresh < 0) fresh = i;
+      continue;
+    }
 
     // mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
     if (advance_mass) {
@@ -652,16 +844,19 @@ void FixCGMSFluid::update_fluid_state(int advance)
 
   if (shape_energy) energy_local += shape_pair_energy(kS);
 
+  if (fresh >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} appeared during the run at step {} (e.g. from fix "
+               "deposit or fix pour) and has no fluid state: CGMS gives beads their state at "
+               "setup; add beads between runs (create_atoms, then run)",
+               atom->tag[fresh], update->ntimestep);
+
   if (emptied >= 0)
     error->one(FLERR,
                "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
                "unstable; reduce the time step (now {:.6g} s)",
                atom->tag[emptied], cg[emptied][MF], update->ntimestep, dt);
-  if (isolated >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use "
-               "'isolated allow' to give isolated beads the reference cell)",
-               atom->tag[isolated]);
+  if (isolated >= 0) isolated_error(isolated);
   if (nonfinite >= 0)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has a non-finite pressure at step {}: the simulation "
@@ -699,6 +894,138 @@ void FixCGMSFluid::update_fluid_state(int advance)
 }
 
 /* ----------------------------------------------------------------------
+   positions and velocities come from the user (data file, set, velocity):
+   a non-finite one would surface later as a pressure or time-step error
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_setup_input()
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    for (int d = 0; d < 2; d++) {
+      if (!std::isfinite(x[i][d]))
+        error->one(FLERR, "Fix cgms/fluid: bead {} has a non-finite position ({} = {}) at setup",
+                   atom->tag[i], d ? "y" : "x", x[i][d]);
+      if (!std::isfinite(v[i][d]))
+        error->one(FLERR,
+                   "Fix cgms/fluid: bead {} has a non-finite velocity (v{} = {}) at setup; "
+                   "check the data file's Velocities section and any set or velocity command",
+                   atom->tag[i], d ? "y" : "x", v[i][d]);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   what a user's tissue can get wrong from the start, seen at setup where it
+   can be named: two beads closer than the pectin layer (their cell side
+   would be negative), and far more neighbours than a hexagonal tissue has
+   (the cutoff or the spacing does not fit the material)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_setup_geometry(const double *sums)
+{
+  const Material &mat = pair->material();
+  double **x = atom->x;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+
+  // the closest pair of this rank's list
+  double closest = HUGE_VAL;
+  int ci = -1, cj = -1;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double dx = x[i][0] - x[j][0];
+      const double dy = x[i][1] - x[j][1];
+      const double rsq = dx * dx + dy * dy;
+      if (rsq < closest) {
+        closest = rsq;
+        ci = i;
+        cj = j;
+      }
+    }
+  }
+  closest = sqrt(closest);
+  // a hexagonal tissue has 6 neighbours and 12 within its second shell
+  int crowded = -1;
+  for (int i = 0; i < nlocal; i++)
+    if (sums[2 * i] > 12.0 && (crowded < 0 || sums[2 * i] > sums[2 * crowded])) crowded = i;
+  if (crowded >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff at setup, "
+               "where a hexagonal tissue has 6: the cutoff ({:.4g} m) does not fit the bead "
+               "spacing of this tissue (nearest beads {:.4g} m apart here; the material's "
+               "lattice spacing x_ref = sqrt(3) b_ref + d_p = {:.4g} m). Check pair_style "
+               "cutoff, the material's diameter and pectin, and the data file's units",
+               tag[crowded], sums[2 * crowded], pair->cutoff(), closest, mat.x_ref);
+
+  if (closest <= mat.pectin)
+    error->one(FLERR,
+               "Fix cgms/fluid: beads {} and {} are {:.4g} m apart at setup, {} the pectin "
+               "layer d_p = {:.4g} m that separates two cells (lattice spacing x_ref = {:.4g} "
+               "m): check the data file for overlapping or duplicated beads",
+               tag[ci], tag[cj], closest, closest == 0.0 ? "at the same position, inside" : "closer than",
+               mat.pectin, mat.x_ref);
+}
+
+/* ----------------------------------------------------------------------
+   a bead without neighbours: say how far its nearest bead is, and whether
+   the dryness-scaled cutoff shrank below the spacing (low dryness)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::isolated_error(int i)
+{
+  const Material &mat = pair->material();
+  double **x = atom->x;
+  const double s = store(lmp).cgms[i][DRYNESS];
+  double nearest = HUGE_VAL;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int a = list->ilist[ii];
+    const int *jlist = list->firstneigh[a];
+    for (int jj = 0; jj < list->numneigh[a]; jj++) {
+      const int b = jlist[jj] & NEIGHMASK;
+      if (a != i && b != i) continue;
+      const double dx = x[a][0] - x[b][0];
+      const double dy = x[a][1] - x[b][1];
+      nearest = MIN(nearest, sqrt(dx * dx + dy * dy));
+    }
+  }
+  const std::string where = nearest < HUGE_VAL
+      ? fmt::format("its nearest bead is {:.4g} m away", nearest)
+      : std::string("no bead lies within the cutoff plus the neighbor skin");
+  std::string why;
+  const double rad = mat.lj_radius(s);
+  const double cut = sqrt(pair->pair_cutsq(rad));
+  // a scaled cutoff that has shrunk to about the fresh spacing (jittered tissues
+  // have neighbours up to 15 % beyond x_ref)
+  if (pair->cutoff_scaled() && cut < 1.15 * mat.x_ref) {
+    // a fresh tissue (spacing x_ref) keeps its neighbours while cut(s) > x_ref
+    const double fresh_lowest =
+        exp((mat.x_ref / sqrt(pair->pair_cutsq(mat.r0)) - 1.0) / mat.lj_slope);
+    why = fmt::format(
+        "; at dryness {:.4g} the cutoff is {:.4g} m (cutoff/lj times the LJ radius r0 (1 + "
+        "lj_slope ln s) = {:.4g} m), which shrinks with the dryness faster than a tissue "
+        "that has not dried yet (a fresh tissue keeps its neighbours down to a dryness of "
+        "about {:.3g}): start from a tissue dried closer to this level, or lower the dryness "
+        "gradually (a variable ramp with 'every')",
+        s, cut, rad, fresh_lowest);
+  } else if (update->whichflag == 2) {
+    why = fmt::format("; the minimizer moved it away from the tissue (cutoff {:.4g} m): use "
+                      "min_style fire or cg with min_modify dmax ~1e-6, which move beads in "
+                      "small steps",
+                      cut);
+  }
+  error->one(FLERR,
+             "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use 'isolated "
+             "allow' to give isolated beads the reference cell) at step {}: {}{}",
+             atom->tag[i], update->ntimestep, where, why);
+}
+
+/* ----------------------------------------------------------------------
    the relative-velocity damping is explicit: stable while
    k_d lambda_max dt / m < 2, lambda_max the largest eigenvalue of the bead
    graph's Laplacian. It is 9 for the hexagonal lattice (N = 6); the check
@@ -716,6 +1043,14 @@ void FixCGMSFluid::damping_limit_error(int i)
   // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
   // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does
   const double kS = pair->material().k_S;
+  if (nn > 6.0 && update->setupflag)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff ({:.4g} m) "
+               "at setup, more than the 6 of a hexagonal tissue, and the damping is unstable "
+               "with them at dt = {:.4g} s: the cutoff does not fit the bead spacing (material "
+               "lattice spacing x_ref = {:.4g} m); check pair_style cutoff, the material's "
+               "diameter and pectin, and the data file",
+               atom->tag[i], nn, pair->cutoff(), update->dt, pair->material().x_ref);
   if (nn > 6.0)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has {:g} neighbours within the cutoff at step {}, more "
@@ -780,6 +1115,13 @@ double FixCGMSFluid::compute_scalar()
 
 double FixCGMSFluid::compute_vector(int n)
 {
+  // the outputs summarise the state this instance computes at setup; before
+  // that (no run yet, or the fix was just defined again) there is none
+  if (!setup_done)
+    error->all(FLERR,
+               "Fix cgms/fluid {}: its global outputs f_{}[1-5] exist only after this fix "
+               "has been set up by a run: use them after 'run 0' or a run",
+               id, id);
   if (vector_step != update->ntimestep) refresh_vector();
   return vector_cache[n];
 }

@@ -28,6 +28,11 @@ class FixCGMSFluid : public Fix {
   double compute_vector(int) override;
   void grow_arrays(int) override;
 
+  void write_data_section_size(int, int &, int &) override;
+  void write_data_section_pack(int, double **) override;
+  void write_data_section_keyword(int, FILE *) override;
+  void write_data_section(int, FILE *, int, double **, int) override;
+
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   int pack_reverse_comm(int, int, double *) override;
@@ -62,15 +67,23 @@ class FixCGMSFluid : public Fix {
 
   bigint vector_step;    // step of the cached global outputs
   double vector_cache[5];
+  int setup_done;        // this instance has computed the state once (global outputs valid)
 
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
   const double *per_bead_values(int, double);
   double shape_pair_energy(double) const;
   void apply_dryness();
-  void initialise_beads();
+  bigint load_data_file_state();
+  bigint initialise_beads();
+  void warn_if_dried(bigint);
   void update_fluid_state(int advance);
   void damping_limit_error(int);
+  void limit_minimizer_step();
+  void check_dryness_range(double, double);
+  void check_setup_input();
+  void check_setup_geometry(const double *);
+  void isolated_error(int);
   void forward(int column);
   void refresh_vector();
 };

@@ -11,6 +11,7 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "input.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -122,6 +123,8 @@ void PairCGMS::coeff(int narg, char **arg)
   if (!allocated) allocate();
 
   mat = CGMS::Material();
+  coeff_line = "* *";
+  for (int iarg = 2; iarg < narg; iarg++) coeff_line += std::string(" ") + arg[iarg];
   mat.read_file(lmp, arg[2]);
   for (int iarg = 3; iarg < narg; iarg += 2) mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
   mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
@@ -135,6 +138,12 @@ void PairCGMS::coeff(int narg, char **arg)
 void PairCGMS::init_style()
 {
   CGMS::require_cgms_system(lmp, "Pair style cgms");
+  // fix cgms/fluid prepares the per-bead state once per step, for one force level
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR,
+               "Pair style cgms does not support run_style {}: CGMS forces have one time "
+               "scale; use run_style verlet",
+               update->integrate_style);
   if (modify->get_fix_by_style("^cgms/fluid$").empty())
     error->all(FLERR,
                "Pair style cgms requires fix cgms/fluid: it computes the virtual-cell geometry, "
@@ -159,7 +168,32 @@ void PairCGMS::init_style()
                    "'neighbor {:.2g} bin' is a good choice",
                    neighbor->skin, mat.x_ref, 0.1 * mat.x_ref);
 
+  // the material comes from a file (one_coeff), which LAMMPS data files cannot
+  // hold: no Pair Coeffs section in write_data, so that data files stay readable
+  // before pair_style; but write_coeff, which LAMMPS offers only through this
+  // flag, does get the full pair_coeff line (write_data_all)
+  writedata = input->command && strcmp(input->command, "write_coeff") == 0;
+
   neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   the pair_coeff line as it was given (material file and overrides)
+------------------------------------------------------------------------- */
+
+void PairCGMS::write_data_all(FILE *fp)
+{
+  if (coeff_line.empty())
+    error->one(FLERR,
+               "Pair cgms: write_coeff cannot name the material file of a pair style read "
+               "from a restart file; give pair_coeff again before write_coeff");
+  // write_coeff reads lines back through a 256-character buffer
+  if (coeff_line.size() > 240)
+    error->one(FLERR,
+               "Pair cgms: the pair_coeff line ({} characters) is too long for write_coeff, "
+               "which handles up to 240; put the overrides into a material file",
+               coeff_line.size());
+  fmt::print(fp, "{}\n", coeff_line);
 }
 
 /* ---------------------------------------------------------------------- */
