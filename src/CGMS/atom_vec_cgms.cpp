@@ -28,16 +28,17 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullp
   bool registered = false;
   for (const auto &item : atom->peratom)
     if (item.name == FIELD) registered = true;
-  if (!registered) atom->add_peratom(FIELD, &CGMS::store(lmp).cgms, Atom::DOUBLE, CGMS::NCOLUMNS);
+  if (!registered) atom->add_peratom(FIELD, &CGMS::bead_array(lmp), Atom::DOUBLE, CGMS::NCOLUMNS);
 
-  // the whole array travels with a bead: its state columns must, and the
-  // derived ones are small enough that splitting them would cost more code
-  // than bytes. Ghosts need the dryness (LJ radius); the per-step coefficient
-  // they need is sent by fix cgms/fluid itself.
+  // the whole array travels with a bead that changes rank: its state columns
+  // must, and the derived ones are small enough that splitting them would cost
+  // more code than bytes. Ghosts get none of it here: the only columns read
+  // for ghosts, the dryness (when it is not uniform) and the pair coefficient,
+  // fix cgms/fluid sends itself when they change (forward communication).
   fields_grow = {"rmass", FIELD};
   fields_copy = {"rmass", FIELD};
-  fields_border = {"rmass", FIELD};
-  fields_border_vel = {"rmass", FIELD};
+  fields_border = {"rmass"};
+  fields_border_vel = {"rmass"};
   fields_exchange = {"rmass", FIELD};
   fields_restart = {"rmass", FIELD};
   fields_create = {"rmass", FIELD};
@@ -88,7 +89,7 @@ void AtomVecCGMS::init()
 void AtomVecCGMS::grow_pointers()
 {
   rmass = atom->rmass;
-  cgms = CGMS::store(lmp).cgms;
+  cgms = CGMS::bead_array(lmp);
 }
 
 /* ----------------------------------------------------------------------

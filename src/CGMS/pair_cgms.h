@@ -29,6 +29,7 @@ class PairCGMS : public Pair {
   void read_restart_settings(FILE *) override;
   void *extract(const char *, int &) override;
   void write_data_all(FILE *) override;
+  double memory_usage() override;
 
   // read by fix cgms/fluid
   const CGMS::Material &material() const { return mat; }
@@ -63,6 +64,7 @@ class PairCGMS : public Pair {
   int cut_scaled;       // 1: scaled cutoff, 0: fixed cutoff cut_user
   double cut_global;    // largest cutoff, for the neighbour lists
   double uniform_dryness;
+  class FixCGMSFluid *fluid;    // the fix that prepares coefficients and distances (init_style)
 
   void allocate();
   template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void eval();
