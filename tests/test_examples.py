@@ -10,6 +10,8 @@ import pytest
 
 from cgmstest import LMP, PLUGIN, ROOT, lammps_env
 
+pytestmark = pytest.mark.lammps
+
 EXAMPLES = sorted((ROOT / "examples").glob("*/in.*"))
 
 

@@ -294,6 +294,7 @@ def test_write_data_sections(tmp_path):
     assert not (tmp_path / "b.data").exists() and not (tmp_path / "d.data").exists()
 
 
+@pytest.mark.lammps
 def test_diameters_section_in_lammps(tmp_path):
     """The Diameters section read by fix property/atom (defined before the box exists)
     sets each bead's reference cell: mf0 = rho0 h pi D^2 / 4, l0p = turgid_ratio 6 b."""

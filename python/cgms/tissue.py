@@ -7,7 +7,7 @@ Builders (positions in metres, returned as (n, 2) arrays):
   reproduces the bead counts of the paper's six rectangular tissues (see ``doc/tissues.md``);
 * :func:`disc`, :func:`polygon` -- the lattice points inside a disc or a closed outline;
 * :func:`cell_diameters` -- per-bead cell diameters for a heterogeneous tissue;
-* :func:`write_data` -- a LAMMPS data file for ``atom_style cgms`` (optionally with a
+* :func:`write_data` (:mod:`cgms.positions`) -- a LAMMPS data file for ``atom_style cgms`` (optionally with a
   ``Diameters`` section read through ``fix property/atom``).
 
 Lattice: neighbouring beads ``spacing`` apart along a row, rows ``spacing*sqrt(3)/2``
@@ -22,11 +22,12 @@ Command line: ``python3 -m cgms.tissue --help``.
 
 import argparse
 import math
-import os
 import sys
 from pathlib import Path
 
 import numpy as np
+
+from .positions import write_data  # noqa: F401 - the data-file writer, kept here for callers
 
 ROW_PITCH = math.sqrt(3) / 2   # row distance / bead spacing
 _TOL = 1e-9                    # relative tolerance (of the spacing) for points on an outline
@@ -391,63 +392,6 @@ def cell_diameters(n, mean, cv, seed=None, *, dist="lognormal", lower=0.5, upper
     else:
         raise ValueError(f"dist must be 'lognormal' or 'normal', got {dist!r}")
     return np.clip(d, lower * mean, None if upper is None else upper * mean)
-
-
-# --------------------------------------------------------------------------- data file
-
-def write_data(path, xy, margin, title="CGMS tissue", diameters=None, overwrite=False):
-    """Write positions ``xy`` (n, 2) in metres as a LAMMPS data file for atom_style cgms
-    (Atoms columns: id type x y z). The box leaves ``margin`` metres around the tissue
-    (z from -margin to margin). Returns the number of beads.
-
-    ``diameters`` (n values, m): also write a ``Diameters`` section (lines ``id value``),
-    read into a per-atom property by::
-
-        fix diam all property/atom d_diameter            # before read_data
-        read_data tissue.data fix diam NULL Diameters
-        variable d atom d_diameter
-        fix fluid all cgms/fluid diameter v_d ...
-
-    An existing file is never replaced unless ``overwrite=True`` (FileExistsError)."""
-    xy = np.asarray(xy, dtype=float)
-    if xy.ndim != 2 or xy.shape[1] != 2 or len(xy) == 0:
-        raise ValueError(f"xy must be a non-empty (n, 2) array, got shape {xy.shape}")
-    if not np.all(np.isfinite(xy)):
-        raise ValueError("xy holds non-finite positions")
-    margin = _positive("margin", margin)
-    if diameters is not None:
-        diameters = np.asarray(diameters, dtype=float).ravel()
-        if len(diameters) != len(xy):
-            raise ValueError(f"{len(diameters)} diameters for {len(xy)} beads")
-        if not np.all(np.isfinite(diameters) & (diameters > 0)):
-            raise ValueError("diameters must be positive finite numbers")
-    lo = xy.min(axis=0) - margin
-    hi = xy.max(axis=0) + margin
-    lines = [
-        " ".join(str(title).split()) or "CGMS tissue",
-        "",
-        f"{len(xy)} atoms",
-        "1 atom types",
-        "",
-        f"{lo[0]:.10e} {hi[0]:.10e} xlo xhi",
-        f"{lo[1]:.10e} {hi[1]:.10e} ylo yhi",
-        f"{-margin:.10e} {margin:.10e} zlo zhi",
-        "",
-        "Atoms # cgms",
-        "",
-    ]
-    lines += [f"{k + 1} 1 {x:.12e} {y:.12e} 0.0" for k, (x, y) in enumerate(xy)]
-    if diameters is not None:
-        lines += ["", "Diameters", ""]
-        lines += [f"{k + 1} {d:.17g}" for k, d in enumerate(diameters)]
-    text = "\n".join(lines) + "\n"
-    try:
-        with open(path, "w" if overwrite else "x") as fh:
-            fh.write(text)
-    except FileExistsError:
-        raise FileExistsError(f"{os.fspath(path)} exists; pass overwrite=True to replace it") \
-            from None
-    return len(xy)
 
 
 # --------------------------------------------------------------------------- command line
