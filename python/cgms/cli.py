@@ -46,8 +46,7 @@ class UsageError(ValueError):
 def rectangle_tissue(width_mm, height_mm, mat, cv=0.0, seed=1):
     """The W x H mm rectangle of the paper's fill rule (cgms.tissue.rectangle)."""
     xy = tissue.rectangle(width_mm * 1e-3, height_mm * 1e-3, mat["x_ref"])
-    diameters = tissue.cell_diameters(len(xy), mat["diameter"], cv, seed) if cv > 0 else None
-    return dict(xy=xy, ids=None, diameters=diameters,
+    return dict(xy=xy, ids=None, diameters=diameters(len(xy), mat, cv, seed),
                 title=f"CGMS {width_mm} x {height_mm} mm tissue",
                 what=f"{width_mm} x {height_mm} mm")
 
@@ -59,25 +58,25 @@ def file_tissue(path, mat, cv=0.0, seed=1):
         raise UsageError(f"--data {path}: no such file")
     if positions.is_data_file(path):
         d = positions.read_data(path)
-        ids, xy, diameters, kind = d["ids"], d["xy"], d["diameters"], "data file"
+        ids, xy, given, kind = d["ids"], d["xy"], d["diameters"], "data file"
     else:
         ids, xy = positions.read_centroids(path)
-        diameters, kind = None, "centroid list"
+        given, kind = None, "centroid list"
         if len(np.unique(ids)) != len(ids):
             raise UsageError(f"--data {path}: an id is given twice")
-    if len(xy) < 3:
-        raise UsageError(f"--data {path}: {len(xy)} bead(s); a tissue needs at least 3")
+    if len(xy) < MIN_BEADS:
+        raise UsageError(f"--data {path}: {len(xy)} bead(s); a tissue needs at least "
+                         f"{MIN_BEADS}")
     gap = morphology.spacing(xy)
     ratio = gap / mat["x_ref"]
     if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
         raise UsageError(f"--data {path}: neighbouring beads are {gap:.4g} m apart (median), "
                          f"{ratio:.3g} times the material's cell spacing x_ref = "
                          f"{mat['x_ref']:.4g} m: positions must be cell centres in metres")
-    if cv > 0:
-        if diameters is not None:
-            raise UsageError(f"--data {path} has a Diameters section: leave out --cv")
-        diameters = tissue.cell_diameters(len(xy), mat["diameter"], cv, seed)
-    return dict(xy=xy, ids=ids, diameters=diameters, title=f"CGMS tissue from {path.name}",
+    if cv > 0 and given is not None:
+        raise UsageError(f"--data {path} has a Diameters section: leave out --cv")
+    return dict(xy=xy, ids=ids, diameters=diameters(len(xy), mat, cv, seed) if cv > 0 else given,
+                title=f"CGMS tissue from {path.name}",
                 what=f"{kind} {path}")
 
 
@@ -311,7 +310,7 @@ def calibrate_arguments(p):
     p.add_argument("--resume", action="store_true",
                    help="continue an interrupted fit in --out (cached steady states reused)")
     p.add_argument("--material", default="apple", help="start material file (default apple)")
-    tissue_arguments(p, width=1.25, what=" (default 1.25 x 1.5: the 86-bead tissue)")
+    tissue_source_arguments(p, width=1.25, what=" (default 1.25 x 1.5: the 86-bead tissue)")
     p.add_argument("--start", action="append", metavar="NAME=VALUE",
                    help="start value (default: the material's; beta: factor 1)")
     p.add_argument("--bounds", action="append", metavar="NAME=LO:HI",
@@ -385,6 +384,134 @@ def print_report(result):
         print(f"  material file: {result['material_file']}")
 
 
+# --------------------------------------------------------------------------- tissue builder
+
+MAX_CLI_BEADS = 5e6   # a polygon file larger than this is probably not in metres
+#: the fewest beads the commands build or read as a tissue (its outline needs three)
+MIN_BEADS = 3
+#: how far the clipping of the cell diameters may move their mean (see --cv)
+MEAN_SHIFT = 0.02
+
+
+def diameters(n, mat, cv, seed, dist="lognormal"):
+    """Per-bead cell diameters for --cv (None for 0); UsageError when the clipping would
+    move their mean more than MEAN_SHIFT from the material's diameter."""
+    if not cv:
+        return None
+    factor = tissue.clipped_mean(cv, dist)
+    if abs(factor - 1) > MEAN_SHIFT:
+        raise UsageError(f"--cv {cv:g}: {dist} diameters clipped at half the mean would "
+                         f"average {factor:.3g} x the material's {mat['diameter'] * 1e6:g} um "
+                         f"(more than {MEAN_SHIFT:.0%} off); use a smaller --cv")
+    return tissue.cell_diameters(n, mat["diameter"], cv, seed, dist=dist)
+
+
+def tissue_parser_arguments(p):
+    """The options of the tissue builder (``python3 -m cgms tissue`` and ``python3 -m
+    cgms.tissue``)."""
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--material", default="apple",
+                        help="material file or name; sets the lattice spacing x_ref and the "
+                             "mean cell diameter (default apple)")
+    common.add_argument("--spacing", type=float, metavar="UM",
+                        help="lattice spacing in micrometres (default: the material's x_ref)")
+    common.add_argument("--rows-along", choices=("x", "y"), default="y",
+                        help="direction of the lattice rows (default y, as in the paper)")
+    common.add_argument("--out", default="tissue.data", help="data file (default tissue.data)")
+    common.add_argument("--force", action="store_true", help="replace an existing --out file")
+    common.add_argument("--margin", type=float, default=3.0,
+                        help="box margin around the tissue, in lattice spacings (default 3)")
+    common.add_argument("--cv", type=float, default=0.0,
+                        help="coefficient of variation of the cell diameter; > 0 writes a "
+                             "Diameters section (default 0: homogeneous tissue)")
+    common.add_argument("--seed", type=int, default=0, help="random seed for --cv (default 0)")
+    common.add_argument("--dist", choices=("lognormal", "normal"), default="lognormal",
+                        help="distribution of the diameters (default lognormal)")
+    sub = p.add_subparsers(dest="shape", required=True)
+    r = sub.add_parser("rect", parents=[common], help="W x H rectangle (mm)",
+                       description="Lattice filling a W x H mm rectangle (W along x, H along y).")
+    r.add_argument("width", type=float, metavar="W", help="width in mm (along x)")
+    r.add_argument("height", type=float, metavar="H", help="height in mm (along y)")
+    r.add_argument("--rule", choices=tissue.RECTANGLE_RULES, default="paper",
+                   help="fill rule (default paper: reproduces the paper's bead counts)")
+    r.add_argument("--inset", type=float, default=0.0,
+                   help="shrink the rectangle by this many mm on every side (e.g. D/2 = 0.075 "
+                        "to read W x H as the cell outline)")
+    d = sub.add_parser("disc", parents=[common], help="disc of radius R (mm)",
+                       description="Lattice points inside a disc of radius R mm.")
+    d.add_argument("radius", type=float, metavar="R", help="radius in mm")
+    g = sub.add_parser("polygon", parents=[common], help="closed polygon from a file (m)",
+                       description="Lattice points inside a closed polygon read from a text "
+                                   "file: one 'x y' vertex per line, in metres.")
+    g.add_argument("file", help="vertex file (x y per line, metres; '#' comments)")
+
+
+TISSUE_DESCRIPTION = ("Build a CGMS tissue (hexagonal lattice of beads) and write it as a "
+                      "LAMMPS data file for atom_style cgms. Sizes W, H, R are in MILLIMETRES; "
+                      "polygon vertex files are in METRES.")
+
+
+
+def tissue_main(argv=None):
+    """``python3 -m cgms.tissue rect W H | disc R | polygon FILE [options]``: build the
+    tissue, write the data file and print the bead count. Returns an exit status."""
+    p = argparse.ArgumentParser(prog="python3 -m cgms.tissue", description=TISSUE_DESCRIPTION)
+    tissue_parser_arguments(p)
+    return tissue_job(p.parse_args(argv))
+
+
+def tissue_job(args):
+    for name in ("width", "height", "radius", "spacing"):
+        value = getattr(args, name, None)
+        if value is not None and not (math.isfinite(value) and value > 0):
+            print(f"cgms.tissue: {name} must be positive, got {value:g}", file=sys.stderr)
+            return 2
+    try:
+        mat = material.read(args.material)
+        spacing = args.spacing * 1e-6 if args.spacing else mat["x_ref"]
+        if args.shape == "polygon":
+            vertices = positions.read_vertices(args.file)
+            if vertices.size:
+                box = np.ptp(vertices, axis=0)
+                estimate = box[0] * box[1] / (tissue.ROW_PITCH * spacing * spacing)
+                if estimate > MAX_CLI_BEADS:
+                    raise ValueError(f"the outline in {args.file} spans {box[0]:g} x "
+                                     f"{box[1]:g} m, room for up to {estimate:.3g} beads "
+                                     f"(limit {MAX_CLI_BEADS:g}); vertices must be in metres")
+        if args.shape == "rect":
+            xy = tissue.rectangle(args.width * 1e-3, args.height * 1e-3, spacing,
+                                  rule=args.rule, rows_along=args.rows_along,
+                                  inset=args.inset * 1e-3)
+            what = f"rectangle {args.width:g} x {args.height:g} mm, rule {args.rule}"
+        elif args.shape == "disc":
+            xy = tissue.disc(args.radius * 1e-3, spacing, rows_along=args.rows_along)
+            what = f"disc of radius {args.radius:g} mm"
+        else:
+            xy = tissue.polygon(vertices, spacing, rows_along=args.rows_along)
+            what = f"polygon {args.file}"
+        if len(xy) < MIN_BEADS:
+            raise ValueError(f"the {what} holds {len(xy)} bead(s) at spacing "
+                             f"{spacing * 1e6:.2f} um; a tissue needs at least {MIN_BEADS}")
+        diam = diameters(len(xy), mat, args.cv, args.seed, args.dist)
+        n = positions.write_data(args.out, xy, args.margin * spacing,
+                                 title=f"CGMS tissue: {what}", diameters=diam,
+                                 overwrite=args.force)
+    except FileExistsError:
+        print(f"cgms.tissue: {args.out} exists; use --force to replace it or choose another "
+              "--out", file=sys.stderr)
+        return 1
+    except (ValueError, OSError) as e:
+        print(f"cgms.tissue: {e}", file=sys.stderr)
+        return 1
+    extra = ""
+    if diam is not None:
+        extra = (f"; Diameters section: mean {diam.mean() * 1e6:.2f} um, cv "
+                 f"{diam.std() / diam.mean():.3f} ({args.dist}, seed {args.seed})")
+    print(f"{n} beads -> {args.out} ({what}, spacing {spacing * 1e6:.2f} um, rows along "
+          f"{args.rows_along}{extra})")
+    return 0
+
+
 # --------------------------------------------------------------------------- options
 
 def positive_int(text):
@@ -447,7 +574,7 @@ def material_overrides(text):
     return text
 
 
-def tissue_arguments(q, width=1.5, what=""):
+def tissue_source_arguments(q, width=1.5, what=""):
     q.add_argument("--data", metavar="FILE",
                    help="tissue file instead of --width/--height: a LAMMPS data file "
                         "(python3 -m cgms.tissue) or cell centroids, one 'id x y' line each, "
@@ -467,7 +594,7 @@ def common_arguments(q, kind, width=True):
                    help="material parameters that replace the file's, as on a pair_coeff "
                         "line, e.g. --set 'k_S 0.5' (doc/pair_cgms.rst)")
     if width:
-        tissue_arguments(q)
+        tissue_source_arguments(q)
     else:
         q.add_argument("--cv", type=fraction, default=0.0,
                        help="coefficient of variation of cell diameters (0: uniform)")
@@ -511,7 +638,7 @@ def target_arguments(q):
 def sensitivity_arguments(q):
     q.add_argument("--out", help="results folder (default results/sensitivity/<date-time>)")
     q.add_argument("--material", default="apple", help="material file (default apple)")
-    tissue_arguments(q, width=1.25, what=" (default 1.25 x 1.5: the 86-bead tissue)")
+    tissue_source_arguments(q, width=1.25, what=" (default 1.25 x 1.5: the 86-bead tissue)")
 
 
 #: the subcommands: name -> (help, options, job). A new subcommand is one line here.
@@ -523,6 +650,8 @@ COMMANDS = {
     "calibrate": ("fit k_T, k_PA, beta to reference centroids (eqn 2)", calibrate_arguments,
                   calibrate_job),
     "target": ("initial dryness whose steady state reaches X/X0", target_arguments, target_job),
+    "tissue": ("build a tissue data file (python3 -m cgms.tissue)", tissue_parser_arguments,
+               tissue_job),
 }
 
 

@@ -202,3 +202,20 @@ def is_data_file(path):
             return any(line.split("#", 1)[0].strip() == "Atoms" for line in fh)
     except UnicodeDecodeError:
         return False
+
+
+def read_vertices(path):
+    """Polygon vertices from a text file: one ``x y`` pair (metres) per line; blank lines
+    and ``#`` comments are ignored."""
+    rows = []
+    for lineno, raw in enumerate(Path(path).read_text().splitlines(), 1):
+        words = raw.split("#", 1)[0].replace(",", " ").split()
+        if not words:
+            continue
+        if len(words) != 2:
+            raise ValueError(f"{path} line {lineno}: expected 'x y', got {raw.strip()!r}")
+        try:
+            rows.append([float(words[0]), float(words[1])])
+        except ValueError:
+            raise ValueError(f"{path} line {lineno}: not numbers: {raw.strip()!r}") from None
+    return np.array(rows).reshape(-1, 2)
