@@ -22,7 +22,7 @@ from scipy.spatial import cKDTree
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
-from cgms import material, model, tissue  # noqa: E402
+from cgms import cli, material, model, positions, study, tissue  # noqa: E402
 
 LMP = os.environ.get("CGMS_LMP", "")
 PLUGIN = os.environ.get("CGMS_PLUGIN", "")
@@ -311,3 +311,39 @@ def assert_steady_perimeters(run, rtol=1e-2, xtol=3e-4, diameter=None,
     x_pred = model.steady_moisture(MAT, s, diameter, **coefficients)
     assert run.moisture == pytest.approx(x_pred, rel=xtol)
     assert run.last("moisture") == pytest.approx(run.moisture, rel=1e-8)
+
+
+# --------------------------------------------------------------------------- command line
+
+def reached(s):
+    """The stand-in's X/X0 at dryness s: rising, above s for s > 0.5 (like CGMS, where
+    s = 0.85 reaches 0.87), 1.1 at s = 1."""
+    return 1.1 * s ** 1.2
+
+
+def fake_relax(data, material_file, dryness, out, **kwargs):
+    """study.relax without LAMMPS: the tissue shrunk by a factor of s, and its dump."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    d = positions.read_data(data)
+    xy = d["xy"] * (0.7 + 0.3 * dryness)
+    name = study.level_name(dryness)
+    lines = ["ITEM: TIMESTEP", "0", "ITEM: NUMBER OF ATOMS", str(len(xy)),
+             "ITEM: BOX BOUNDS ss ss pp", "-1 1", "-1 1", "-1 1", "ITEM: ATOMS id x y pressure"]
+    lines += [f"{i} {x!r} {y!r} {1e5 * dryness!r}" for i, (x, y) in zip(d["ids"], xy)]
+    (out / f"tissue.{name}.dump").write_text("\n".join(lines) + "\n")
+    (out / f"log.{name}.lammps").write_text(f"options {kwargs}\n")
+    return dict(xy=xy, moisture=reached(dryness), residual=0.0, speed=0.0, kinetic=0.0,
+                steps=10, dryness=dryness, seconds=0.0, method=kwargs.get("method", "dynamics"),
+                converged=True)
+
+
+def run_cli(capsys, *args):
+    """(exit status, stderr, stdout) of ``python3 -m cgms args``; argparse's exit counts."""
+    try:
+        status = cli.main(list(args))
+    except SystemExit as stop:
+        status = stop.code
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err
+    return status, err, out

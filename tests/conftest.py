@@ -7,7 +7,8 @@ import shutil
 
 import pytest
 
-from cgmstest import lammps_missing
+from cgmstest import fake_relax, lammps_missing  # first: it puts python/ on the path
+from cgms import study  # noqa: E402
 
 MARKERS = {
     "lammps": "needs LAMMPS and the CGMS plugin (skipped without a build)",
@@ -33,3 +34,11 @@ def pytest_collection_modifyitems(config, items):
         elif no_mpirun and item.get_closest_marker("mpi"):
             item.add_marker(pytest.mark.skip(reason="mpirun not found: install openmpi-bin "
                                                     "(./cgms test does)"))
+
+
+@pytest.fixture
+def fake(monkeypatch, tmp_path):
+    """Work in ``tmp_path`` with study.relax replaced by cgmstest.fake_relax (no LAMMPS)."""
+    monkeypatch.setattr(study, "relax", fake_relax)
+    monkeypatch.chdir(tmp_path)
+    return tmp_path

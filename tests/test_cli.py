@@ -1,10 +1,9 @@
 """The command line and the Python side never crash, never lose or mix results, and name
 the real cause (issue 12, sections 2 and 4-6; doc/errors.md, "Command line and Python").
 
-Most cases stop before LAMMPS runs. Those that need finished levels use a stand-in for
-study.relax (``fake_relax``): a steady state whose moisture and shape follow a smooth rule
-of s, written with its dump, so the folder logic is tested without LAMMPS; the cases that
-need LAMMPS itself are marked."""
+Most cases stop before LAMMPS runs. Those that need finished levels use cgmstest's
+stand-in for study.relax (the ``fake`` fixture), so the folder logic is tested without
+LAMMPS."""
 
 import errno
 import json
@@ -12,55 +11,12 @@ import os
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
-from cgms import cli, folders, material, positions, study, tissue
-from cgmstest import APPLE, MAT, ROOT, XREF
+from cgms import folders, material, study, tissue
+from cgmstest import APPLE, ROOT, XREF, reached, run_cli
 
 SMALL = ["--width", "0.6", "--height", "0.6"]
-
-
-def reached(s):
-    """The stand-in's X/X0 at dryness s: rising, above s for s > 0.5 (like CGMS, where
-    s = 0.85 reaches 0.87), 1.1 at s = 1."""
-    return 1.1 * s ** 1.2
-
-
-def fake_relax(data, material_file, dryness, out, **kwargs):
-    """study.relax without LAMMPS: the tissue shrunk by a factor of s, and its dump."""
-    from pathlib import Path
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    d = positions.read_data(data)
-    xy = d["xy"] * (0.7 + 0.3 * dryness)
-    name = study.level_name(dryness)
-    lines = ["ITEM: TIMESTEP", "0", "ITEM: NUMBER OF ATOMS", str(len(xy)),
-             "ITEM: BOX BOUNDS ss ss pp", "-1 1", "-1 1", "-1 1", "ITEM: ATOMS id x y pressure"]
-    lines += [f"{i} {x!r} {y!r} {1e5 * dryness!r}" for i, (x, y) in zip(d["ids"], xy)]
-    (out / f"tissue.{name}.dump").write_text("\n".join(lines) + "\n")
-    (out / f"log.{name}.lammps").write_text(f"options {kwargs}\n")
-    return dict(xy=xy, moisture=reached(dryness), residual=0.0, speed=0.0, kinetic=0.0,
-                steps=10, dryness=dryness, seconds=0.0, method=kwargs.get("method", "dynamics"),
-                converged=True)
-
-
-@pytest.fixture
-def fake(monkeypatch, tmp_path):
-    monkeypatch.setattr(study, "relax", fake_relax)
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
-
-
-def run_cli(capsys, *args):
-    """(exit status, stderr) of ``python3 -m cgms args``; argparse's exit counts too."""
-    try:
-        status = cli.main(list(args))
-    except SystemExit as stop:
-        status = stop.code
-    err = capsys.readouterr().err
-    assert "Traceback" not in err
-    return status, err
 
 
 def listing(folder):
@@ -78,10 +34,10 @@ def test_resume_with_other_options_is_refused(fake, capsys):
     for other in (["--set", "k_T 5e-10"], ["--set", "k_T 1e-10", "--method", "dynamics"],
                   ["--set", "k_T 1e-10", "--width", "0.9"],
                   ["--set", "k_T 1e-10", "--cv", "0.05"]):
-        status, err = run_cli(capsys, *base, "--resume", *other)
+        status, err, _ = run_cli(capsys, *base, "--resume", *other)
         assert status == 1 and ("another setup" in err or "another tissue" in err), (other, err)
     assert (fake / "d/tissue/level.s0.3.json").read_text() == before
-    status, err = run_cli(capsys, *base, "--resume", "--set", "k_T 1e-10")
+    status, err, _ = run_cli(capsys, *base, "--resume", "--set", "k_T 1e-10")
     assert status == 0, err
 
 
@@ -92,7 +48,7 @@ def test_levels_that_print_alike_are_kept_apart(fake, capsys):
     a = json.loads((fake / "d/tissue/level.s0.3.json").read_text())
     b = json.loads((fake / "d/tissue/level.s0.30000001.json").read_text())
     assert a["dryness"] == 0.3 and b["dryness"] == 0.30000001
-    status, err = run_cli(capsys, "study", *SMALL, "--dryness", "0.3,0.3", "--out", "e")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "0.3,0.3", "--out", "e")
     assert status == 2 and "given twice" in err and not (fake / "e").exists()
 
 
@@ -120,10 +76,10 @@ def test_target_beyond_the_fresh_tissue_says_what_it_reaches(fake):
 
 def test_out_that_is_a_file(fake, capsys):
     (fake / "f").write_text("mine")
-    status, err = run_cli(capsys, "study", *SMALL, "--out", "f")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--out", "f")
     assert status == 1 and "--out f is a file, not a folder" in err
     assert (fake / "f").read_text() == "mine"
-    status, err = run_cli(capsys, "study", *SMALL, "--out", "f/sub")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--out", "f/sub")
     assert status == 1 and "cannot write in f/sub: Not a directory" in err
 
 
@@ -138,7 +94,7 @@ def test_read_only_or_full_disk_says_so(fake, capsys, monkeypatch):
         return real_mkdir(self, *a, **k)
 
     monkeypatch.setattr(type(fake), "mkdir", read_only)
-    status, err = run_cli(capsys, "study", *SMALL, "--out", "ro")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--out", "ro")
     assert status == 1 and "cannot write in ro: Read-only file system" in err
 
     def full(fh):
@@ -148,7 +104,7 @@ def test_read_only_or_full_disk_says_so(fake, capsys, monkeypatch):
     monkeypatch.setattr(folders, "write_atomic",
                         lambda path, write: real_write(path, full if path.suffix == ".json"
                                                        and "level" in path.name else write))
-    status, err = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "full")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "full")
     assert status == 1 and "No space left on device" in err
     assert not list((fake / "full").rglob("level.*.json"))
     assert not list((fake / "full").rglob("*.tmp"))
@@ -158,20 +114,20 @@ def test_damaged_result_is_named_on_resume(fake, capsys):
     assert run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d")[0] == 0
     bad = fake / "d/tissue/level.s0.3.json"
     bad.write_text("")   # as a kill during a non-atomic write left it
-    status, err = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d",
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d",
                           "--resume")
     assert status == 1 and str(bad.relative_to(fake)) in err and "delete it" in err
     (fake / "d/tissue/level.s1.npy").unlink()
     bad.unlink()
-    status, err = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d",
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d",
                           "--resume")
     assert status == 1 and "level.s1.npy" in err
 
 
 def test_resume_needs_an_existing_out(fake, capsys):
-    status, err = run_cli(capsys, "study", *SMALL, "--resume")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--resume")
     assert status == 1 and "give the folder with --out" in err
-    status, err = run_cli(capsys, "study", *SMALL, "--resume", "--out", "missing")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--resume", "--out", "missing")
     assert status == 1 and "--resume: missing does not exist" in err
     assert listing(fake) == []
 
@@ -181,7 +137,7 @@ def test_two_commands_never_share_a_folder(fake, capsys):
     own lock is what tells (flock: also across processes)."""
     assert run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "d")[0] == 0
     with folders.claim(fake / "d", "study", resume=True):
-        status, err = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "d",
+        status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "d",
                               "--resume")
         assert status == 1 and "in use by another cgms command" in err
         # a second process too
@@ -203,7 +159,7 @@ def test_two_commands_never_share_a_folder(fake, capsys):
     (["--max-steps", "0"], "must be at least 1"),
 ])
 def test_bad_options_create_nothing(fake, capsys, args, message):
-    status, err = run_cli(capsys, "study", *args)
+    status, err, _ = run_cli(capsys, "study", *args)
     assert status == 2 and message in err, err
     assert listing(fake) == []
 
@@ -214,7 +170,7 @@ def test_bad_options_create_nothing(fake, capsys, args, message):
     (["0.6", "--xtol", "0"], "argument --xtol: must be a positive number"),
 ])
 def test_bad_target_options(fake, capsys, args, message):
-    status, err = run_cli(capsys, "target", *args)
+    status, err, _ = run_cli(capsys, "target", *args)
     assert status == 2 and message in err, err
     assert listing(fake) == []
 
@@ -225,7 +181,7 @@ def test_bad_target_options(fake, capsys, args, message):
     (["--start", "k_T=abc"], "--start: bad value in 'k_T=abc'"),
 ])
 def test_bad_calibrate_options(fake, capsys, args, message):
-    status, err = run_cli(capsys, "calibrate", "--reference", "1=ref.txt", *args)
+    status, err, _ = run_cli(capsys, "calibrate", "--reference", "1=ref.txt", *args)
     assert status == 2 and message in err, err
     assert listing(fake) == []
 
@@ -272,7 +228,7 @@ def test_material_file_rules(tmp_path, capsys, monkeypatch, case):
         material.read(path)
     assert message in str(err.value) and str(path) in str(err.value), str(err.value)
     monkeypatch.chdir(tmp_path)
-    status, text = run_cli(capsys, "study", "--material", str(path), "--out", "out")
+    status, text, _ = run_cli(capsys, "study", "--material", str(path), "--out", "out")
     assert status == 1 and message in text and not (tmp_path / "out").exists()
 
 
@@ -293,7 +249,7 @@ def test_material_that_is_a_folder_or_not_text(tmp_path, capsys):
 def test_set_is_checked_before_anything_is_built(fake, capsys, overrides, message):
     """--set 'diameter 0' once built an 18 072-bead tissue at 8 um spacing before LAMMPS
     refused it."""
-    status, err = run_cli(capsys, "study", *SMALL, "--set", overrides, "--out", "d")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--set", overrides, "--out", "d")
     assert status == 1 and message in err, err
     assert listing(fake) == []
 
@@ -330,5 +286,5 @@ def test_clipped_mean_is_the_sample_mean():
 
 
 def test_study_cv_is_checked_like_the_builder(fake, capsys):
-    status, err = run_cli(capsys, "study", *SMALL, "--cv", "5", "--out", "d")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--cv", "5", "--out", "d")
     assert status == 2 and "--cv 5" in err and listing(fake) == []

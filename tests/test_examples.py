@@ -1,6 +1,5 @@
 """Every example input runs to its end (serially and on 2 ranks) and reaches steady state."""
 
-import os
 import re
 import shutil
 import subprocess
