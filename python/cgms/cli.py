@@ -13,8 +13,10 @@ import argparse
 import math
 import os
 import sys
+from contextlib import contextmanager
 from datetime import datetime
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -106,6 +108,18 @@ def write_tissue(folder, t, mat):
     return data
 
 
+@contextmanager
+def tissue_in_folder(args, kind, resume=False):
+    """Material, tissue and the locked results folder holding the tissue's data file, for
+    commands on one tissue; everything is checked before the folder is made."""
+    mat_file, mat = material_of(args)
+    t = chosen_tissue(args, mat)
+    with folders.claim(args.out, kind, resume) as out:
+        yield SimpleNamespace(out=out, data=write_tissue(out, t, mat), tissue=t,
+                              mat_file=mat_file, mat=mat, n=len(t["xy"]),
+                              diameters=t["diameters"] is not None)
+
+
 def material_of(args):
     """(material file, parameters with --set applied), checked."""
     mat_file = material.find(args.material)
@@ -194,17 +208,14 @@ def study_job(args):
 
 
 def target_job(args):
-    mat_file, mat = material_of(args)
-    t = chosen_tissue(args, mat)
-    with folders.claim(args.out, "target") as out:
-        data = write_tissue(out, t, mat)
-        result = study.target_moisture(data, mat_file, args.target, out, xtol=args.xtol,
-                                       diameters=t["diameters"] is not None,
+    with tissue_in_folder(args, "target") as job:
+        result = study.target_moisture(job.data, job.mat_file, args.target, job.out,
+                                       xtol=args.xtol, diameters=job.diameters,
                                        method=args.method, overrides=args.set)
         for s, x in result["evaluations"]:
             print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
         print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
-              f"({len(result['evaluations'])} runs; results in {out})")
+              f"({len(result['evaluations'])} runs; results in {job.out})")
     return 0
 
 
@@ -214,13 +225,11 @@ def sensitivity_job(args):
     """The paper's section 4.4 on the 86-bead tissue (or --data): table, plot."""
     from . import sensitivity
 
-    mat_file, mat = material_of(args)
-    t = chosen_tissue(args, mat)
-    with folders.claim(args.out, "sensitivity") as out:
-        data = write_tissue(out, t, mat)
-        print(f"cgms: sensitivity study on the {len(t['xy'])}-bead tissue; results in {out}",
+    with tissue_in_folder(args, "sensitivity") as job:
+        out = job.out
+        print(f"cgms: sensitivity study on the {job.n}-bead tissue; results in {out}",
               flush=True)
-        rows = sensitivity.run(data, mat_file, out)
+        rows = sensitivity.run(job.data, job.mat_file, out)
         done = [r for r in rows if "failed" not in r]
         study.write_csv(done, out / "sensitivity.csv")
         failed = [r for r in rows if "failed" in r]
@@ -333,16 +342,14 @@ def calibrate_job(args):
     refs = parse_references(args.reference)
     start = pairs(args.start, "--start", float)
     bounds = pairs(args.bounds, "--bounds", interval)
-    mat_file, mat = material_of(args)
-    t = chosen_tissue(args, mat)
-    with folders.claim(args.out, "calibrate", args.resume) as out:
-        data = write_tissue(out, t, mat)
-        print(f"cgms calibrate: fitting {args.fit} on {data} ({len(t['xy'])} beads), "
+    with tissue_in_folder(args, "calibrate", args.resume) as job:
+        out = job.out
+        print(f"cgms calibrate: fitting {args.fit} on {job.data} ({job.n} beads), "
               f"levels {', '.join(f'{s:g}' for s in sorted(refs, reverse=True))}; results in "
               f"{out}", flush=True)
         try:
             result = calibrate.calibrate(
-                data, mat_file, refs, out, parameters=args.fit.split(","), start=start,
+                job.data, job.mat_file, refs, out, parameters=args.fit.split(","), start=start,
                 bounds=bounds, align_mode=args.align, workers=args.workers,
                 max_evaluations=args.max_evaluations, material_out=args.write_material,
                 overwrite=args.force)
@@ -514,35 +521,23 @@ def tissue_job(args):
 
 # --------------------------------------------------------------------------- options
 
-def positive_int(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
+def checked(convert, test, rule):
+    """An argparse type: ``convert`` the text; refuse non-finite values and those that fail
+    ``test`` (``rule`` says what is wanted)."""
+    def parse(text):
+        try:
+            value = convert(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+        if not (math.isfinite(value) and test(value)):
+            raise argparse.ArgumentTypeError(f"must be {rule}, got {text}")
+        return value
+    return parse
 
 
-def positive_float(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a positive number, got {text}")
-    return value
-
-
-def fraction(text):
-    """A coefficient of variation: a finite number >= 0."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value >= 0):
-        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {text}")
-    return value
+positive_int = checked(int, lambda v: v >= 1, "at least 1")
+positive_float = checked(float, lambda v: v > 0, "a positive number")
+fraction = checked(float, lambda v: v >= 0, "a number >= 0")   # e.g. a coefficient of variation
 
 
 def levels(text):
