@@ -270,7 +270,7 @@ def squeezed(xy, gap):
 def test_bead_pair_started_at_half_the_spacing(tmp_path, calibration, s):
     """The pair's pressure jumps (7th power of the density), the turgor force pushes the
     two apart and every bead returns to l*; the pair's own distance then recovers only by
-    the slow LJ-driven creep of MODEL.md 8 (0.84 x_ref after 1e5 steps at s = 1, 0.91
+    the slow LJ-driven creep of doc/model.md (0.84 x_ref after 1e5 steps at s = 1, 0.91
     after 1e6, lattice 1.055), monotonically."""
     run = run_tissue(tmp_path, squeezed(calibration["xy"], 0.5), dryness=s,
                      extra_thermo=pair_distance_thermo())
@@ -564,7 +564,7 @@ def test_sensitivity_extremes(tmp_path, calibration, coefficients, label):
     """The paper's sensitivity extremes at s = 0.3, and k_T x 10 also fresh. l* depends on
     k_T / k_PA only (and the LJ forces): k_T x 10 and k_PA x 0.1 reach X/X0 = 0.1666 and
     0.1672 (default 0.2284) and a smaller tissue than the default; k_PA x 100 holds each
-    cell at l_d (0.2358). Fresh, k_T has no effect (paper, and MODEL.md 5): the same state
+    cell at l_d (0.2358). Fresh, k_T has no effect (paper, and doc/model.md): the same state
     as the default."""
     name, value = coefficients.split()
     k = dict(k_T=MAT["k_T"], k_PA=MAT["k_PA"])

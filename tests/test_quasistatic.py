@@ -3,7 +3,7 @@
 so that LAMMPS minimisers and cgms.solve can work on it.
 
 Checked two ways: the plugin's energy against finite differences of itself (forces), and
-against the potential written down from MODEL.md with reference.py's geometry."""
+against the potential written down from doc/model.md with reference.py's geometry."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""The plugin against the independent NumPy implementation of MODEL.md (reference.py):
+"""The plugin against the independent NumPy implementation of doc/model.md (reference.py):
 per-bead geometry, density, pressure, dm/dt, the pair coefficient, forces, LJ energy
 and virial, on random jittered tissues with heterogeneous dryness and velocities."""
 

@@ -1,5 +1,5 @@
 """The default scheme runs every uniform dryness in [0.1, 1] stably at the paper's time
-step (MODEL.md 8: the paper's literal inertia does not)."""
+step (doc/model.md: the paper's literal inertia does not)."""
 
 import numpy as np
 import pytest
@@ -52,7 +52,7 @@ def test_dried_corners_survive_long_runs(tmp_path, s):
 
 
 def test_paper_literal_inertia_is_unstable_when_dried(tmp_path):
-    """MODEL.md 8: with the inertial mass scaled by dryness, dt = 1e-7 s is above the
+    """doc/model.md: with the inertial mass scaled by dryness, dt = 1e-7 s is above the
     explicit damping limit below s of about 0.75. The run must stop at setup with an
     ERROR that gives the limit, not produce NaNs or a torn tissue."""
     proc = relax(tmp_path, 0.3, fix_args="inertia fluid", steps=2000)
@@ -60,7 +60,7 @@ def test_paper_literal_inertia_is_unstable_when_dried(tmp_path):
     error = [line for line in proc.stdout.splitlines() if "ERROR" in line]
     assert error and "above the stability limit of the damping" in error[0], error
     limit = float(error[0].split("about ")[1].split()[0])
-    # MODEL.md 8: unstable at 5e-8 s, stable at 3e-8 s for this case
+    # doc/model.md: unstable at 5e-8 s, stable at 3e-8 s for this case
     assert 3e-8 < limit < 5e-8, limit
 
 

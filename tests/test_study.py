@@ -54,7 +54,7 @@ def test_results_folder_is_never_reused(tmp_path):
 
 @pytest.mark.lammps
 def test_quasistatic_state_is_a_steady_state_of_the_dynamics(small_tissue, tmp_path):
-    """MODEL.md 8: at steady state P = -Pi, so the geometry solves the force balance with
+    """doc/model.md: at steady state P = -Pi, so the geometry solves the force balance with
     the pressures fixed. The FIRE solution must be at rest under the full dynamics (mass
     transfer, damping, everything): started there, the beads must not move."""
     qs = study.relax(small_tissue, APPLE, 0.4, tmp_path / "qs", method="quasistatic")

@@ -294,7 +294,7 @@ def measures(xy, max_edge=None):
     - ``height``, ``width``: extent of the outline along the vertical line x = centroid x
       and along the horizontal line y = centroid y (outermost intersections with the
       polygon; see :func:`line_extent`).
-    - ``elongation``: ``height / width`` (MODEL.md 9, paper section 2.5: for a rectangular
+    - ``elongation``: ``height / width`` (doc/model.md, paper section 2.5: for a rectangular
       tissue, the vertical symmetry axis over the horizontal one). Measured in the fixed
       x-y frame, so it is not rotation invariant; it may be below 1.
     - ``elongation_pca``: major/minor axis ratio from the polygon's second moments

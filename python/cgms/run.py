@@ -57,7 +57,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter.
     ``overrides``: "name value ..." material parameters that replace the file's.
 
-    ``method="quasistatic"`` solves for the steady state directly (MODEL.md 8): every bead
+    ``method="quasistatic"`` solves for the steady state directly (doc/model.md): every bead
     holds P = -Pi (fix cgms/fluid's ``minimize balance``) and FIRE minimisation moves the
     beads until the largest force on any bead is below ``ftol`` (N), with damping off;
     ``steady['max_steps']`` bounds the iterations. ``method="newton"`` sets up the same
