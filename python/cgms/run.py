@@ -130,7 +130,7 @@ def steady_state(lmp):
 def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, log=None):
     """Newton's method (:mod:`cgms.solve`) on a LAMMPS instance set up by
     :func:`tissue_script` with ``method="newton"``; writes the final state to ``dump``.
-    ``spacing``: the steady bead spacing (:func:`cgms.material.steady_spacing`); a tissue
+    ``spacing``: the steady bead spacing (:func:`cgms.model.steady_spacing`); a tissue
     that must swell to it is first scaled up about its centroid, which leaves Newton only
     the periphery's adjustment (a fresh tissue swells by 5 %: from the unscaled lattice
     Newton fails on 20 000 beads). A tissue that must shrink is not scaled down: that

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import folders, material as material_file, morphology, run
+from . import folders, material as material_file, model, morphology, run
 
 LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3)
 #: the fallback when the quasi-static solve stops or does not converge: the dynamics at
@@ -74,7 +74,7 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
             # (doc/performance.md)
             with open(out / f"newton.{name}.log", "w") as fh:
                 solver = run.solve_newton(lmp, dump=dump, max_iterations=min(60, max_steps),
-                                          spacing=material_file.steady_spacing(mat, dryness),
+                                          spacing=model.steady_spacing(mat, dryness),
                                           log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
     except Exception as err:
