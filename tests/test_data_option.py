@@ -123,14 +123,17 @@ def test_data_file_round_trip(tmp_path):
 
 @pytest.mark.lammps
 def test_study_of_a_holed_polygon_in_lammps(tmp_path, capsys, monkeypatch):
-    """The real thing on a holed polygon: fresh and dried levels, smaller when dried."""
+    """The real thing on a holed polygon: fresh and dried levels, smaller when dried
+    (Newton: FIRE stalls on this tissue at s = 0.4, 2e6 iterations without converging)."""
     monkeypatch.chdir(tmp_path)
     source = holed_data(tmp_path)
     status, err, out = run_cli(capsys, "study", "--data", str(source), "--dryness", "1,0.4",
-                          "--out", "d")
+                               "--method", "newton", "--out", "d")
     assert status == 0, err
-    row = [line.split() for line in out.splitlines() if line.strip().startswith("tissue ")]
-    assert len(row) == 2 and float(row[1][4]) < 0.9 and row[1][-1] == "yes", out
+    rows = [line.split() for line in out.splitlines() if line.split()[:1] == ["tissue"]
+            and line.split()[1].isdigit()]
+    assert len(rows) == 2 and rows[1][1] == "66", out
+    assert float(rows[1][4]) < 0.9 and rows[1][-1] == "yes", out
 
 
 @pytest.mark.lammps
@@ -145,8 +148,8 @@ def test_calibrate_takes_a_centroid_list(tmp_path, capsys, monkeypatch):
     positions.write_data(data, positions.read_centroids(path)[1], 3 * XREF, ids=ids)
     fresh = study.relax(data, APPLE, 1.0, tmp_path / "ref", method="quasistatic")
     positions.write_centroids(tmp_path / "ref1.txt", fresh["xy"], ids=np.sort(ids))
-    status, err, out = run_cli(capsys, "calibrate", "--data", str(path), "--reference", "1=ref1.txt",
-                          "--fit", "k_PA", "--max-evaluations", "3", "--workers", "1",
-                          "--out", "c")
+    status, err, out = run_cli(capsys, "calibrate", "--data", str(path), "--reference",
+                               "1=ref1.txt", "--fit", "k_PA", "--max-evaluations", "3",
+                               "--workers", "1", "--out", "c")
     assert status == 0, err
     assert f"({len(ids)} beads)" in out and "RMSD" in out

@@ -29,9 +29,13 @@ def test_sweep_resumes_and_normalises(small_tissue, tmp_path, monkeypatch):
     assert rows[1]["X/X0"] < 0.4 and rows[1]["A/A0"] < 0.9 and rows[1]["P/P0"] < 0.97
     # a second sweep reads the finished levels back and runs nothing
     monkeypatch.setattr(study, "relax", lambda *a, **k: pytest.fail("level run again"))
-    again = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False)
+    again = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False,
+                        steady=STEADY)
     assert np.array_equal(again[1]["xy"], results[1]["xy"])
     assert again[1]["moisture"] == results[1]["moisture"]
+    # ... but not for other options: those results would be mixed with these
+    with pytest.raises(folders.FolderError, match="another setup"):
+        study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False)
 
 
 @pytest.mark.lammps
