@@ -288,3 +288,20 @@ def test_clipped_mean_is_the_sample_mean():
 def test_study_cv_is_checked_like_the_builder(fake, capsys):
     status, err, _ = run_cli(capsys, "study", *SMALL, "--cv", "5", "--out", "d")
     assert status == 2 and "--cv 5" in err and listing(fake) == []
+
+
+# --------------------------------------------------------------------------- section 3
+
+@pytest.mark.lammps
+def test_lammps_error_is_shown_whole_without_the_fire_hint(tmp_path, capsys, monkeypatch):
+    """LAMMPS's Python module cuts its error message at 100 characters; the command line
+    shows the whole ERROR line of the log, and no advice about FIRE (which did not fail).
+    lj_slope 5 makes the LJ radius at s = 0.3 negative: beads lose their neighbours."""
+    monkeypatch.chdir(tmp_path)
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "0.3", "--set",
+                             "lj_slope 5", "--out", "d")
+    log = (tmp_path / "d/tissue/log.s0.3.lammps").read_text()
+    line = next(x for x in log.splitlines() if x.startswith("ERROR"))
+    assert len(line) > 100   # longer than the Python module passes on
+    assert status == 1 and line in err and "d/tissue/log.s0.3.lammps" in err, err
+    assert "FIRE" not in err
