@@ -302,8 +302,9 @@ def healthy(run, residual=1e-3, max_neighbours=6, decay=0.1):
 def assert_steady_perimeters(run, rtol=1e-2, xtol=3e-4, diameter=None,
                              **coefficients):
     """Each bead's perimeter is l*_i (relative tolerance ``rtol``) and X/X0 the derived
-    value (``xtol``) (:func:`cgms.model.steady_perimeter`, test_hard_cases.py). The moisture converges fast; single perimeters
-    approach l* with the slow creep (2e-3 to 5e-3 off after 1e5 steps, 5e-4 after 5e5)."""
+    value (``xtol``) (:func:`cgms.model.steady_perimeter`, test_hard_cases.py). The
+    moisture converges fast; single perimeters approach l* with the slow creep (2e-3 to
+    5e-3 off after 1e5 steps, 5e-4 after 5e5)."""
     s = run.end["dryness"]
     want = model.steady_perimeter(MAT, s, diameter, **coefficients)
     worst = np.abs(run.end["perim"] / want - 1).max()

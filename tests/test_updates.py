@@ -90,7 +90,8 @@ def test_restart_keeps_dryness_when_fix_omits_it(tmp_path):
 
 def test_per_bead_cell_diameter(tmp_path):
     """A heterogeneous tissue: each new bead's fresh fluid mass and turgid perimeter
-    follow its own cell diameter (doc/model.md: one reference cell per bead), here from an atom-style variable."""
+    follow its own cell diameter (doc/model.md: one reference cell per bead), here from an
+    atom-style variable."""
     make_tissue(tmp_path, s=0.8)
     lmp = new_lammps()
     try:

@@ -92,10 +92,11 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
 
 
 def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, **kwargs):
-    """:func:`relax` with the quasi-static solve (FIRE, or the given ``method``), and where LAMMPS stops it (or, with
-    ``fallback_unconverged``, it reaches its iteration limit) the dynamics of
-    :data:`FALLBACK` in ``out/dynamics``. Returns ``(result, note)``: ``note`` says why the
-    fallback ran ("" if it did not). A stop of the fallback raises :class:`LammpsError`."""
+    """:func:`relax` with the quasi-static solve (FIRE, or the given ``method``), and
+    where LAMMPS stops it (or, with ``fallback_unconverged``, it reaches its iteration
+    limit) the dynamics of :data:`FALLBACK` in ``out/dynamics``. Returns
+    ``(result, note)``: ``note`` says why the fallback ran ("" if it did not). A stop of the
+    fallback raises :class:`LammpsError`."""
     kwargs = dict(kwargs)
     kwargs.setdefault("method", "quasistatic")
     note = ""

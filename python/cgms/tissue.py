@@ -7,8 +7,8 @@ Builders (positions in metres, returned as (n, 2) arrays):
   reproduces the bead counts of the paper's six rectangular tissues (see ``doc/tissues.md``);
 * :func:`disc`, :func:`polygon` -- the lattice points inside a disc or a closed outline;
 * :func:`cell_diameters` -- per-bead cell diameters for a heterogeneous tissue;
-* :func:`write_data` (:mod:`cgms.positions`) -- a LAMMPS data file for ``atom_style cgms`` (optionally with a
-  ``Diameters`` section read through ``fix property/atom``).
+* :func:`write_data` (:mod:`cgms.positions`) -- a LAMMPS data file for ``atom_style cgms``
+  (optionally with a ``Diameters`` section read through ``fix property/atom``).
 
 Lattice: neighbouring beads ``spacing`` apart along a row, rows ``spacing*sqrt(3)/2``
 apart, every other row shifted by half a spacing. ``rows_along="x"`` lays the rows
