@@ -305,3 +305,16 @@ def test_lammps_error_is_shown_whole_without_the_fire_hint(tmp_path, capsys, mon
     assert len(line) > 100   # longer than the Python module passes on
     assert status == 1 and line in err and "d/tissue/log.s0.3.lammps" in err, err
     assert "FIRE" not in err
+
+
+def test_python_material_rules_are_the_plugins():
+    """material.PARAMETERS repeats the plugin's table of parameters (names, ranges,
+    required) so that files are refused alike on both sides; read that table from the
+    plugin's source and compare."""
+    import re
+    source = (ROOT / "src/CGMS/cgms_material.cpp").read_text()
+    rows = re.findall(r'\{"(\w+)",\s*&CGMS::Material::\w+,\s*(\w+),\s*(true|false)\}', source)
+    assert len(rows) >= 20, "the plugin's parameter table changed form: update this test"
+    ranges = {"POSITIVE": "> 0", "NONNEGATIVE": ">= 0", "NEGATIVE": "< 0", "ANY": "finite"}
+    plugin = {name: (ranges[r], req == "true") for name, r, req in rows}
+    assert plugin == material.PARAMETERS
