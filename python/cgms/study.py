@@ -160,11 +160,17 @@ def table(results):
 
 
 def write_csv(rows, path):
+    """The rows as a CSV table at a new ``path`` (FileExistsError if it is there), written
+    whole or not at all."""
     import csv
-    with open(path, "x", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    import io
+    if Path(path).exists():
+        raise FileExistsError(f"{path} exists")
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=list(rows[0]))
+    writer.writeheader()
+    writer.writerows(rows)
+    folders.write_atomic(path, lambda fh: fh.write(text.getvalue().encode()))
 
 
 def target_moisture(data, material, target, out, xtol=1e-3, **kwargs):
