@@ -4,6 +4,7 @@ the literal rate form of the density (eqns 5-6), and the inertial mass of each m
 import numpy as np
 import pytest
 
+from cgms import model
 from cgmstest import MAT, header, make_tissue, new_lammps, physics, working_directory
 from test_reference import COLUMNS, assert_close
 
@@ -104,11 +105,10 @@ def test_per_bead_cell_diameter(tmp_path):
     finally:
         lmp.close()
     d = 140e-6 + ids * 0.2e-6
-    area = np.pi * d**2 / 4
-    side = np.sqrt(2 * area / (3 * np.sqrt(3)))
+    cell = model.reference_cell(d, MAT["pectin"])
     col = {name: cg[:, k] for k, name in enumerate(COLUMNS)}
-    assert_close("mf0", col["mf0"], MAT["rho0"] * MAT["height"] * area, rtol=1e-14)
-    assert_close("l0p", col["l0p"], MAT["turgid_ratio"] * 6 * side, rtol=1e-14)
+    assert_close("mf0", col["mf0"], MAT["rho0"] * MAT["height"] * cell["A_ref"], rtol=1e-14)
+    assert_close("l0p", col["l0p"], model.fresh_perimeter(MAT, d), rtol=1e-14)
     assert_close("mf", col["mf"], 0.8 * col["mf0"], rtol=1e-14)
 
 
