@@ -2,13 +2,13 @@
 never a crash (issue 12). Each case runs LAMMPS in a subprocess, so a segfault fails the
 case, not the suite: a crash shows as a return code other than 0 (result) or 1 (ERROR)."""
 
-import os
 import subprocess
-import sys
 
 import pytest
 
 from cgmstest import APPLE, ROOT, header, lammps_env, make_tissue, physics, run_lmp
+
+pytestmark = pytest.mark.lammps
 
 
 def outcome(proc):
@@ -47,7 +47,7 @@ CASES = {
                         "Pair style cgms does not support run_style respa"),
     "write_data before run": ("write_data before.data\n", "ok"),
     "write_data after run": ("run 10\nwrite_data after.data\n", "ok"),
-    "pair_write": (f"pair_write 1 1 10 r 1e-5 2e-4 table.txt CGMS\n",
+    "pair_write": ("pair_write 1 1 10 r 1e-5 2e-4 table.txt CGMS\n",
                    "Pair style does not support pair_write"),
     "compute pair/local dist": ("compute pl all pair/local dist\n"
                                 "dump d all local 5 pl.dump c_pl\nrun 10\n", "ok"),
@@ -126,3 +126,16 @@ def test_python_extract_fix_before_run(folder):
     after = float(proc.stdout.split("AFTER")[1].split()[0])
     # X/X0 at setup: every bead starts with the fluid mass s m_f0 of its dryness s = 0.8
     assert after == pytest.approx(0.8, abs=1e-12)
+
+
+def test_write_coeff_after_read_restart(folder):
+    """the restart record carries the pair_coeff line, so write_coeff works after
+    read_restart too"""
+    first = header() + physics(material_overrides="k_S 0.5") + "run 10\nwrite_restart s.restart\n"
+    assert outcome(run_lmp(folder, first, check=False)) == "ok"
+    second = "\n".join([header().splitlines()[0], "read_restart s.restart",
+                        "comm_modify vel yes", "neighbor 1.5e-5 bin",
+                        "fix fl all cgms/fluid", "write_coeff again.in", ""])
+    assert outcome(run_lmp(folder, second, check=False)) == "ok"
+    lines = (folder / "again.in").read_text().splitlines()
+    assert f"pair_coeff * * {APPLE} k_S 0.5" in lines, lines

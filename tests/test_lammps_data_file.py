@@ -14,6 +14,8 @@ import pytest
 from cgmstest import APPLE, PLUGIN, ROOT, XREF, header, lammps_env, make_tissue, physics, \
     read_dump, run_lmp
 
+pytestmark = pytest.mark.lammps
+
 DUMP = ("dump d all custom {every} {name} id x y vx vy\n"
         "dump_modify d format float %.17g sort id\n")
 OUTPUTS = 'print "OUT $(f_fl[1]:%.17g) $(f_fl[2]:%.17g)"\n'
@@ -89,7 +91,7 @@ def bead_state_script(nprocs):
         "import numpy as np",
         "from lammps import lammps, LMP_STYLE_ATOM, LMP_TYPE_ARRAY",
         "from cgmstest import header, physics",
-        f"from cgms import fields",
+        "from cgms import fields",
         "lmp = lammps(cmdargs=['-screen', 'none', '-log', 'none', '-nocite'])",
         f"lmp.commands_string(header(processors={nprocs}) + physics() + 'run 50')",
         "state = fields.bead_state(lmp)",

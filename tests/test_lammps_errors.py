@@ -5,8 +5,9 @@ tissue) or ran on with a wrong state. doc/errors.md tables what the user sees.""
 import numpy as np
 import pytest
 
-from cgmstest import APPLE, XREF, header, make_tissue, physics, run_lmp
-from cgms import tissue
+from cgmstest import header, make_tissue, physics, run_lmp
+
+pytestmark = pytest.mark.lammps
 
 
 def first_error(proc):

@@ -66,8 +66,8 @@ void AtomVecCGMS::process_args(int narg, char **arg)
   static char style_name[] = "cgms";
   atom->atom_style = style_name;
   try {
-    modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata no",
-                                      CGMS::DATA_FIX, CGMS::DATA_PROPERTY, CGMS::NDATA));
+    modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata no", CGMS::DATA_FIX,
+                                CGMS::DATA_PROPERTY, CGMS::NDATA));
   } catch (...) {
     atom->atom_style = nullptr;
     throw;

@@ -114,9 +114,9 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    dryness_changed(0), coef(nullptr), sums(nullptr), nmax_bead(0), rdist(nullptr),
-    rdist_size(0), rdist_list(nullptr), rdist_valid(0), comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0),
-    vector_step(-1), setup_done(0)
+    dryness_changed(0), coef(nullptr), sums(nullptr), nmax_bead(0), rdist(nullptr), rdist_size(0),
+    rdist_list(nullptr), rdist_valid(0), comm_column(COEF), work(nullptr), nmax_work(0),
+    energy_local(0.0), vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -962,8 +962,8 @@ void FixCGMSFluid::stop_if_unstable(const Trouble &t)
                "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
                "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
                dt, mat.k_S, update->ntimestep,
-               StepLimits(*pair, dt).shape(rmass[shaky], cg[shaky][NNEIGH]),
-               atom->tag[shaky], rmass[shaky], cg[shaky][NNEIGH]);
+               StepLimits(*pair, dt).shape(rmass[shaky], cg[shaky][NNEIGH]), atom->tag[shaky],
+               rmass[shaky], cg[shaky][NNEIGH]);
   if (stiff >= 0 && t.after_change)
     error->one(FLERR,
                "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
@@ -1060,8 +1060,9 @@ void FixCGMSFluid::check_setup_geometry()
                "Fix cgms/fluid: beads {} and {} are {:.4g} m apart at setup, {} the pectin "
                "layer d_p = {:.4g} m that separates two cells (lattice spacing x_ref = {:.4g} "
                "m): check the data file for overlapping or duplicated beads",
-               tag[ci], tag[cj], closest, closest == 0.0 ? "at the same position, inside" : "closer than",
-               mat.pectin, mat.x_ref);
+               tag[ci], tag[cj], closest,
+               closest == 0.0 ? "at the same position, inside" : "closer than", mat.pectin,
+               mat.x_ref);
 }
 
 /* ----------------------------------------------------------------------

@@ -73,10 +73,10 @@ class FixCGMSFluid : public Fix {
 
   // compact per-bead copies of what the per-pair loops touch, so that a
   // neighbour costs 8 or 16 bytes instead of a 112-byte row
-  double *coef;        // pair coefficient (local and ghost beads)
-  double *sums;        // geometry pass: neighbour count, sum of distances (2 per bead)
-  int nmax_bead;       // length of coef (sums: twice that)
-  double *rdist;       // distance per neighbour-list entry (see distances_for)
+  double *coef;     // pair coefficient (local and ghost beads)
+  double *sums;     // geometry pass: neighbour count, sum of distances (2 per bead)
+  int nmax_bead;    // length of coef (sums: twice that)
+  double *rdist;    // distance per neighbour-list entry (see distances_for)
   bigint rdist_size;
   int **rdist_list;    // firstneigh of the list rdist follows
   int rdist_valid;     // set by the geometry pass, cleared by the pair after use
@@ -89,7 +89,7 @@ class FixCGMSFluid : public Fix {
 
   bigint vector_step;    // step of the cached global outputs
   double vector_cache[5];
-  int setup_done;        // this instance has computed the state once (global outputs valid)
+  int setup_done;    // this instance has computed the state once (global outputs valid)
 
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);

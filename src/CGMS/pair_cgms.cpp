@@ -433,8 +433,8 @@ void PairCGMS::read_restart(FILE *fp)
                "from a data file, or read it with the plugin that wrote it",
                MATERIAL_RECORD_VERSION);
   };
-  if (header[0] != MATERIAL_RECORD_TAG || header[1] != MATERIAL_RECORD_VERSION ||
-      header[2] <= 0 || header[2] > (1 << 20))
+  if (header[0] != MATERIAL_RECORD_TAG || header[1] != MATERIAL_RECORD_VERSION || header[2] <= 0 ||
+      header[2] > (1 << 20))
     refuse();
   std::string text(header[2], '\0');
   if (comm->me == 0) utils::sfread(FLERR, text.data(), 1, text.size(), fp, nullptr, error);

@@ -59,10 +59,10 @@ class PairCGMS : public Pair {
  protected:
   CGMS::Material mat;
   std::string coeff_line;    // the pair_coeff arguments as given (for write_coeff)
-  double cut_user;      // fixed cutoff given in pair_style (m), 0 = scaled cutoff
-  double cut_factor;    // scaled cutoff: cut_factor times the pair's LJ radius
-  int cut_scaled;       // 1: scaled cutoff, 0: fixed cutoff cut_user
-  double cut_global;    // largest cutoff, for the neighbour lists
+  double cut_user;           // fixed cutoff given in pair_style (m), 0 = scaled cutoff
+  double cut_factor;         // scaled cutoff: cut_factor times the pair's LJ radius
+  int cut_scaled;            // 1: scaled cutoff, 0: fixed cutoff cut_user
+  double cut_global;         // largest cutoff, for the neighbour lists
   double uniform_dryness;
   class FixCGMSFluid *fluid;    // the fix that prepares coefficients and distances (init_style)
 
