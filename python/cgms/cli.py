@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import calibrate, material, morphology, plots, study, tissue
+from . import calibrate, material, morphology, pictures, plots, study, tissue
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
 
@@ -99,8 +99,10 @@ def main_job(args):
         rows += dry(out, name, w, h, mat_file, levels, args)
     study.write_csv(rows, out / f"summary-{datetime.now():%H%M%S}.csv")
     print_table(rows)
-    print(f"\ncgms: table {out}/summary-*.csv; plots {out}/*/curves.png, pressure.png, "
-          f"shrinkage.png; dumps (OVITO) {out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
+    pictures.study_pictures(out)
+    print(f"\ncgms: table {out}/summary-*.csv; plots {out}/curves-all.png, */curves.png, "
+          f"*/cells-*.png, */pressure.png, */shrinkage.png; dumps (OVITO) {out}/*/tissue.s*.dump; "
+          f"logs {out}/*/log.*.lammps")
     return 0
 
 
@@ -111,6 +113,7 @@ def study_job(args):
     rows = dry(out, "tissue", args.width, args.height, mat_file, levels, args)
     study.write_csv(rows, out / f"summary-{datetime.now():%H%M%S}.csv")
     print_table(rows)
+    pictures.study_pictures(out)
     print(f"\ncgms: results in {out}")
     return 0
 
