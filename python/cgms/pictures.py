@@ -55,22 +55,25 @@ CLIP_RADIUS = 0.6
 def _clip_convex(subject, clip):
     """Sutherland-Hodgman: the part of polygon ``subject`` inside the convex,
     counter-clockwise polygon ``clip`` ((k, 2) arrays)."""
-    out = subject
-    for a, b in zip(clip, np.roll(clip, -1, axis=0)):
-        if len(out) == 0:
+    # plain floats: a cell has a few dozen vertices, where NumPy calls cost more than sums
+    out = [tuple(v) for v in subject.tolist()]
+    clip = clip.tolist()
+    for (ax, ay), (bx, by) in zip(clip, clip[1:] + clip[:1]):
+        if not out:
             break
-        edge = b - a
-        side = edge[0] * (out[:, 1] - a[1]) - edge[1] * (out[:, 0] - a[0])    # > 0: inside
-        nxt = np.roll(out, -1, axis=0)
-        side_nxt = np.roll(side, -1)
+        ex, ey = bx - ax, by - ay
+        side = [ex * (y - ay) - ey * (x - ax) for x, y in out]    # >= 0: inside
         kept = []
-        for p, q, sp, sq in zip(out, nxt, side, side_nxt):
+        for k, (px, py) in enumerate(out):
+            qx, qy = out[k - len(out) + 1]
+            sp, sq = side[k], side[k - len(out) + 1]
             if sp >= 0:
-                kept.append(p)
+                kept.append((px, py))
             if (sp >= 0) != (sq >= 0):
-                kept.append(p + (q - p) * (sp / (sp - sq)))
-        out = np.array(kept).reshape(-1, 2)
-    return out
+                t = sp / (sp - sq)
+                kept.append((px + (qx - px) * t, py + (qy - py) * t))
+        out = kept
+    return np.array(out, dtype=float).reshape(-1, 2)
 
 
 def voronoi_cells(xy, radius=None, sides=24):
@@ -87,12 +90,17 @@ def voronoi_cells(xy, radius=None, sides=24):
     vor = Voronoi(np.vstack([p, frame]))
     angles = 2 * np.pi * (np.arange(sides) + 0.5) / sides
     disc = np.column_stack([np.cos(angles), np.sin(angles)])
+    inside = radius * np.cos(np.pi / sides)    # a cell within this needs no clipping
     cells = []
     for i in range(n):
         region = vor.regions[vor.point_region[i]]
         vertices = vor.vertices[region]
-        order = np.argsort(np.arctan2(*(vertices - p[i]).T[::-1]))    # convex, around p_i
-        cells.append(_clip_convex(vertices[order], p[i] + radius[i] * disc))
+        offsets = vertices - p[i]
+        order = np.argsort(np.arctan2(offsets[:, 1], offsets[:, 0]))    # convex, around p_i
+        if np.max(np.hypot(offsets[:, 0], offsets[:, 1])) <= inside[i]:
+            cells.append(vertices[order])
+        else:
+            cells.append(_clip_convex(vertices[order], p[i] + radius[i] * disc))
     return cells
 
 
@@ -137,7 +145,7 @@ def draw_tissue(ax, xy, values, cells="voronoi", side=None, norm=None, cmap="vir
     else:
         raise ValueError(f"cells must be 'voronoi' or 'hexagon', got {cells!r}")
     collection = PolyCollection([c * 1e3 for c in polys], array=np.asarray(values, float),
-                                cmap=cmap, norm=norm, edgecolors="0.15", linewidths=0.3)
+                                cmap=cmap, norm=norm, edgecolors="0.35", linewidths=0.3)
     ax.add_collection(collection)
     loop = morphology.outline(p)
     here = p[np.r_[loop, loop[:1]]]
@@ -158,15 +166,17 @@ def snapshots(states, path, field="pressure", cells="voronoi", cmap=None, title=
     for hexagons, ``side``; the state with the largest ``dryness`` (or the first) is the
     fresh one, whose outline is drawn over the others. Every panel has the same scale."""
     label, factor = FIELDS.get(field, (field, 1.0))
-    cmap = cmap or ("magma" if field == "shrinkage" else "viridis")
+    cmap = cmap or ("YlOrRd" if field == "shrinkage" else "viridis")
     values = [np.asarray(s["values"], float) * factor for s in states]
     finite = np.concatenate([v[np.isfinite(v)] for v in values])
     norm = plt.Normalize(*(np.percentile(finite, [0, 100]) if finite.size else (0, 1)))
     fresh = max(range(len(states)), key=lambda k: states[k].get("dryness", -k))
     half = 0.5e3 * max(np.ptp(np.asarray(s["xy"])[:, :2], axis=0).max() for s in states)
     half += 1e3 * morphology.spacing(states[fresh]["xy"])
-    fig, axes = plt.subplots(1, len(states), figsize=(2.9 * len(states) + 1.2, 3.5),
-                             constrained_layout=True, squeeze=False)
+    width = 2.9 * len(states) + 1.2
+    fig, axes = plt.subplots(1, len(states), figsize=(width, 3.7), squeeze=False)
+    fig.subplots_adjust(left=0.8 / width, right=1 - 1.3 / width, bottom=0.14, top=0.8,
+                        wspace=0.25)
     for k, (ax, state, v) in enumerate(zip(axes[0], states, values)):
         coll = draw_tissue(ax, state["xy"], v, cells, state.get("side"), norm, cmap,
                            fresh_xy=None if k == fresh else states[fresh]["xy"])
@@ -176,10 +186,11 @@ def snapshots(states, path, field="pressure", cells="voronoi", cmap=None, title=
         ax.set_title(state["title"], fontsize=9)
         ax.set_xlabel("x (mm)")
     axes[0][0].set_ylabel("y (mm)")
-    fig.colorbar(coll, ax=axes[0].tolist(), label=label, shrink=0.85)
+    fig.colorbar(coll, cax=fig.add_axes([1 - 1.0 / width, 0.18, 0.12 / width, 0.58]),
+                 label=label)
     key = "solid line: outline through the peripheral bead centres; dashed: the fresh one"
     fig.suptitle(f"{title}\n{key}" if title else key, fontsize=9)
-    fig.savefig(path, dpi=130, bbox_inches="tight")
+    fig.savefig(path, dpi=130)
     plt.close(fig)
     return path
 
@@ -204,7 +215,7 @@ def curves_all(tables, path, title=""):
     axes[0].legend(fontsize=8, frameon=False)
     if title:
         fig.suptitle(title, fontsize=10)
-    fig.savefig(path, dpi=130, bbox_inches="tight")
+    fig.savefig(path, dpi=130)
     plt.close(fig)
     return path
 
@@ -251,7 +262,7 @@ def study_pictures(folder, field="pressure", cells="voronoi"):
         results = _levels(tissue_dir)
         fresh = results[0]
         label = f"{tissue_dir.name} ({len(fresh['xy'])} beads)"
-        tables[label] = study.table(results)
+        tables[label] = [dict(r, beads=len(fresh["xy"])) for r in study.table(results)]
         for name in dict.fromkeys((field, "shrinkage")):
             states = []
             for r in results:
@@ -261,5 +272,6 @@ def study_pictures(folder, field="pressure", cells="voronoi"):
                                    dryness=r["dryness"]))
             written.append(snapshots(states, tissue_dir / f"cells-{name}.png", name, cells,
                                      title=label))
-    written.append(curves_all(tables, folder / "curves-all.png"))
+    by_size = sorted(tables.items(), key=lambda item: item[1][0]["beads"])
+    written.append(curves_all(dict(by_size), folder / "curves-all.png"))
     return written

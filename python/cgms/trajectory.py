@@ -1,9 +1,10 @@
 """Tissue morphology over a whole run, frame by frame, read with MDAnalysis.
 
 A LAMMPS run writes its trajectory with ``dump custom`` (text, columns ``id type x y z``
-and any others) or ``dump dcd`` / ``dump xtc`` (binary, positions only). MDAnalysis reads
-all of them frame by frame without loading the file into memory, which matters for a
-20 000-bead tissue dumped thousands of times. Each frame's bead positions go to
+and any others). MDAnalysis reads it frame by frame without loading the file into memory,
+which matters for a 20 000-bead tissue dumped thousands of times, and reads the binary
+trajectories of ``dump dcd`` and ``dump xtc`` the same way (those need a LAMMPS with the
+EXTRA-DUMP package, which ``./cgms setup`` does not build: untested here). Each frame's bead positions go to
 :func:`cgms.morphology.measures`: the tissue area, perimeter and elongation of the paper
 (doc/model.md, "Tissue morphology").
 
@@ -33,8 +34,8 @@ def universe(trajectory, topology=None, **kwargs):
     ``trajectory``: a LAMMPS text dump with the columns ``id``, ``type`` and ``x y z`` (or
     ``xu yu zu``, ``xs ys zs``), read with MDAnalysis's LAMMPSDUMP reader; or, with
     ``topology`` (a LAMMPS data file of the tissue, ``Atoms # cgms``: ``id type x y z``),
-    any trajectory MDAnalysis reads, e.g. from ``dump dcd``. Raises ValueError naming what
-    a dump lacks."""
+    such a dump or any trajectory MDAnalysis reads (``dump dcd``). Raises ValueError naming
+    what a dump lacks."""
     text_dump = _is_text_dump(trajectory)
     if text_dump:
         _check_dump_columns(trajectory)
