@@ -4,15 +4,15 @@ A LAMMPS run writes its trajectory with ``dump custom`` (text, columns ``id type
 and any others). MDAnalysis reads it frame by frame without loading the file into memory,
 which matters for a 20 000-bead tissue dumped thousands of times, and reads the binary
 trajectories of ``dump dcd`` and ``dump xtc`` the same way (those need a LAMMPS with the
-EXTRA-DUMP package, which ``./cgms setup`` does not build: untested here). Each frame's bead positions go to
-:func:`cgms.morphology.measures`: the tissue area, perimeter and elongation of the paper
+EXTRA-DUMP package, which ``./cgms setup`` does not build: untested here). Each frame's bead
+positions go to :func:`cgms.morphology.measures`: the tissue area, perimeter and elongation of the paper
 (doc/model.md, "Tissue morphology").
 
 - :func:`universe`: an MDAnalysis Universe over a dump (or a data file and a DCD/XTC);
 - :func:`shapes`: area, perimeter, elongation and their normalised values for every frame.
 
-MDAnalysis's dump reader keeps positions in float32 (7 digits: 1e-11 m on a tissue of a
-few mm) and moves the box's lower corner to the origin; the shape measures do not depend
+MDAnalysis's dump reader keeps positions in float32 (7 digits: 1e-10 m, 1e-6 x_ref, on a
+tissue of a few mm) and moves the box's lower corner to the origin; the shape measures do not depend
 on either. Per-bead fields (``pressure``, ``mf``, ...) are not read by it (MDAnalysis
 2.4 reads only id, type, positions, velocities and forces): read those with
 :func:`cgms.morphology.read_dump`.
