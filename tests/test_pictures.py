@@ -102,7 +102,7 @@ def test_hexagon_cells_need_the_side(lattice):
 
 def test_pictures_of_a_study_folder(tmp_path):
     """Two tissues at two levels, solved quasi-statically by LAMMPS with the plugin: every
-    picture is written, and each snapshot's panel shows its own state."""
+    picture is written, and a level whose dump does not match its positions is refused."""
     from matplotlib.image import imread
 
     for name, (w, h) in {"small": (0.8, 0.8), "tall": (0.8, 1.2)}.items():
@@ -122,3 +122,7 @@ def test_pictures_of_a_study_folder(tmp_path):
         assert image[..., :3].std() > 0.05    # not blank
     with pytest.raises(FileNotFoundError, match="no study results"):
         pictures.study_pictures(tmp_path / "small" / "nothing")
+    moved = tmp_path / "small" / "level.s0.4.npy"
+    np.save(moved, np.load(moved) + 1e-6)
+    with pytest.raises(ValueError, match="does not hold the positions"):
+        pictures.study_pictures(tmp_path)
