@@ -47,6 +47,9 @@ FIELDS = {
     "dmdt": ("mass rate dm$_f$/dt (ng/s)", 1e12),
 }
 
+#: cell walls are drawn for tissues of at most this many beads
+MAX_WALLED = 1600
+
 #: the Voronoi cells are cut off by a disc of this radius (times the median bead spacing):
 #: above the circumradius 1/sqrt(3) = 0.577 of a lattice cell, so inner cells stay whole
 CLIP_RADIUS = 0.6
@@ -144,8 +147,12 @@ def draw_tissue(ax, xy, values, cells="voronoi", side=None, norm=None, cmap="vir
         polys = hexagon_cells(p, side)
     else:
         raise ValueError(f"cells must be 'voronoi' or 'hexagon', got {cells!r}")
+    # cell walls while a panel shows fewer than about 40 cells across; beyond that they
+    # would only darken the colours
+    walls = dict(edgecolors="0.35", linewidths=0.3) if len(p) <= MAX_WALLED else \
+        dict(edgecolors="face", linewidths=0.0)
     collection = PolyCollection([c * 1e3 for c in polys], array=np.asarray(values, float),
-                                cmap=cmap, norm=norm, edgecolors="0.35", linewidths=0.3)
+                                cmap=cmap, norm=norm, **walls)
     ax.add_collection(collection)
     loop = morphology.outline(p)
     here = p[np.r_[loop, loop[:1]]]
