@@ -20,7 +20,6 @@ them, as a micrograph shows a tissue:
 Positions are in metres (drawn in mm); polygons are lists of (k, 2) vertex arrays.
 """
 
-import json
 from pathlib import Path
 
 import matplotlib
@@ -31,7 +30,7 @@ import numpy as np  # noqa: E402
 from matplotlib.collections import PolyCollection  # noqa: E402
 from scipy.spatial import Voronoi, cKDTree  # noqa: E402
 
-from . import morphology, study  # noqa: E402
+from . import folders, morphology, study  # noqa: E402
 
 #: per-bead fields that can colour the cells: dump column -> (label, factor to the unit)
 FIELDS = {
@@ -232,8 +231,8 @@ def _levels(folder):
     ``.npy``), wettest first, as :func:`cgms.study.sweep` returns them."""
     results = []
     for done in Path(folder).glob("level.s*.json"):
-        result = json.loads(done.read_text())
-        result["xy"] = np.load(done.with_suffix(".npy"))
+        result = folders.read_json(done)
+        result["xy"] = folders.read_npy(done.with_suffix(".npy"))
         results.append(result)
     return sorted(results, key=lambda r: -r["dryness"])
 
