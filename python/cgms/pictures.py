@@ -130,6 +130,18 @@ def hexagon_cells(xy, side, angle=None):
     return list(p[:, None, :] + side[:, None, None] * unit[None, :, :])
 
 
+def _loops(p):
+    """Closed outlines through the peripheral bead centres: the outer one and those of the
+    holes (:func:`cgms.morphology.boundary_cycles`), each as (k + 1, 2) positions."""
+    return [p[np.r_[c, c[:1]]] for c, _ in morphology.boundary_cycles(p)]
+
+
+def _centroid(p):
+    """Area centroid of the outer outline (holes counted as tissue: no warning)."""
+    outer = morphology.boundary_cycles(p)[0][0]
+    return morphology._polygon_moments(p[outer])[1]
+
+
 def draw_tissue(ax, xy, values, cells="voronoi", side=None, norm=None, cmap="viridis",
                 fresh_xy=None):
     """Draw the cells of one tissue state on ``ax``, coloured by ``values`` (one per bead,
@@ -153,15 +165,13 @@ def draw_tissue(ax, xy, values, cells="voronoi", side=None, norm=None, cmap="vir
     collection = PolyCollection([c * 1e3 for c in polys], array=np.asarray(values, float),
                                 cmap=cmap, norm=norm, **walls)
     ax.add_collection(collection)
-    loop = morphology.outline(p)
-    here = p[np.r_[loop, loop[:1]]]
-    ax.plot(*(here.T * 1e3), color="k", lw=0.8)
+    for loop in _loops(p):
+        ax.plot(*(loop.T * 1e3), color="k", lw=0.8)
     if fresh_xy is not None:
         f = np.asarray(fresh_xy, dtype=float)[:, :2]
-        floop = morphology.outline(f)
-        fresh = f[np.r_[floop, floop[:1]]]
-        shift = np.subtract(morphology.measures(p)["centroid"], morphology.measures(f)["centroid"])
-        ax.plot(*((fresh + shift).T * 1e3), color="k", lw=1.0, ls="--")
+        shift = np.subtract(_centroid(p), _centroid(f))
+        for loop in _loops(f):
+            ax.plot(*((loop + shift).T * 1e3), color="k", lw=1.0, ls="--")
     ax.set_aspect("equal")
     return collection
 
@@ -186,7 +196,7 @@ def snapshots(states, path, field="pressure", cells="voronoi", cmap=None, title=
     for k, (ax, state, v) in enumerate(zip(axes[0], states, values)):
         coll = draw_tissue(ax, state["xy"], v, cells, state.get("side"), norm, cmap,
                            fresh_xy=None if k == fresh else states[fresh]["xy"])
-        cx, cy = np.multiply(morphology.measures(np.asarray(state["xy"])[:, :2])["centroid"], 1e3)
+        cx, cy = _centroid(np.asarray(state["xy"], dtype=float)[:, :2]) * 1e3
         ax.set_xlim(cx - half, cx + half)
         ax.set_ylim(cy - half, cy + half)
         ax.set_title(state["title"], fontsize=9)
@@ -237,19 +247,19 @@ def _levels(folder):
     return sorted(results, key=lambda r: -r["dryness"])
 
 
-def _field(folder, result, field, fresh):
+def _field(folder, result, field, fresh, cells):
     """One level's values of ``field``: local shrinkage from the fresh level, or a column
-    of the level's final dump; also the cell side for hexagons."""
+    of the level's final dump; and the cell sides (the dump's ``side``) for hexagons."""
     dump = Path(folder) / f"tissue.{study.level_name(result['dryness'])}.dump"
-    names = ["side"] + ([] if field in ("shrinkage", "side") else [field])
-    frame = morphology.read_dump(dump, columns=names, engine="numpy")[-1]
+    names = {field} - {"shrinkage"} | ({"side"} if cells == "hexagon" else set())
+    frame = morphology.read_dump(dump, columns=sorted(names), engine="numpy")[-1]
     if not np.allclose(frame["xy"], result["xy"], rtol=0, atol=1e-9):
         raise ValueError(f"{dump} does not hold the positions of {folder}/level.*.npy")
     if field == "shrinkage":
         values = morphology.shrinkage(result["xy"], fresh["xy"])
     else:
         values = frame["columns"][field]
-    return values, frame["columns"]["side"]
+    return values, frame["columns"].get("side")
 
 
 def study_pictures(folder, field="pressure", cells="voronoi"):
@@ -272,7 +282,7 @@ def study_pictures(folder, field="pressure", cells="voronoi"):
         for name in dict.fromkeys((field, "shrinkage")):
             states = []
             for r in results:
-                values, side = _field(tissue_dir, r, name, fresh)
+                values, side = _field(tissue_dir, r, name, fresh, cells)
                 states.append(dict(title=f"s = {r['dryness']:g}, X/X0 = {r['moisture']:.3f}",
                                    xy=r["xy"], values=values, side=side,
                                    dryness=r["dryness"]))
