@@ -128,7 +128,11 @@ def test_air_side():
     Chilton-Colburn coefficients (h / (k_c rho c_p) = Le^2/3 = 0.9, not the Lewis
     relation's 1) put the wet surface 2 K lower."""
     kc, h = transport.air_coefficients(70.0, 1.5, 0.03)
-    tp = transport.product_temperature(kc, h, 70.0, 0.1, (0.12, 5.0, 0.9), np.array([100.0]),
-                                       np.array([1.0]))
+    xy = tissue.hex_rectangle(3, 3, 1.5e-4)
+    geo = transport.bead_geometry(xy, 1.35 * 1.5e-4)
+    grid = transport.column_grid(geo, np.full(len(xy), 2e-3), RHO_S * geo["area"] * 2e-3, 2)
+    wet = np.full(len(xy) * 2, 6.0)          # free water at the surface: aw = 1
+    tp = transport.product_temperature(kc, h, 70.0, 0.1, (0.12, 5.0, 0.9), grid, wet,
+                                       np.full_like(wet, 1e-6))
     assert abs(tp - 34.2) < 2.5      # 34.2 C: the adiabatic-saturation balance by hand
     assert 0.01 < kc < 0.05 and 15 < h < 40

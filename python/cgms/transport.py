@@ -199,6 +199,26 @@ def _series(g, alpha):
     return g / (g + alpha)
 
 
+def surface_nodes(grid, d, outline=True):
+    """The nodes that exchange with air: a list of (node indices, surface area m^2, half-cell
+    conductance per unit area kg/(m^2 s) per unit X, on a slice face?), first the faces
+    (layer 0 of every column), then the outline (every layer of the outline beads)."""
+    geo, nl = grid["geometry"], grid["layers"]
+    n = len(geo["area"])
+    rho_s, dz = grid["solid_density"], grid["dz"]
+    parts = []
+    if grid["faces"]:
+        top = np.arange(n) * nl
+        parts.append((top, geo["area"], d[top] * rho_s / (0.5 * dz), True))
+    if outline:
+        beads = np.nonzero(geo["edge"] > 0)[0]
+        for j in range(nl):
+            idx = beads * nl + j
+            parts.append((idx, geo["edge"][beads] * dz[beads],
+                          d[idx] * rho_s[beads] / (0.5 * geo["spacing"][beads]), False))
+    return parts
+
+
 def step(grid, x, dt, diff, surface, outline=True):
     """One backward Euler step of length ``dt`` (s) from node moisture ``x``.
 
@@ -241,32 +261,27 @@ def step(grid, x, dt, diff, surface, outline=True):
     # surface terms: flow = c1 x + c0 per node (kg/s)
     c1 = np.zeros(n * nl)
     c0 = np.zeros(n * nl)
-    face = np.zeros(n * nl, bool)
-    if grid["faces"]:
-        top = np.arange(n) * nl
-        g = d[top] * rho_s / (0.5 * dz)
-        share = _series(g, alpha[top]) * geo["area"]
-        c1[top] += share * alpha[top]
-        c0[top] += share * beta[top]
-        face[top] = True
-    c1_face, c0_face = c1.copy(), c0.copy()
-    if outline:
-        beads = np.nonzero(geo["edge"] > 0)[0]
-        for j in layer:
-            idx = beads * nl + j
-            g = d[idx] * rho_s[beads] / (0.5 * geo["spacing"][beads])
-            share = _series(g, alpha[idx]) * geo["edge"][beads] * dz[beads]
-            c1[idx] += share * alpha[idx]
-            c0[idx] += share * beta[idx]
+    c1_face = np.zeros(n * nl)
+    c0_face = np.zeros(n * nl)
+    for idx, area, g, on_face in surface_nodes(grid, d, outline):
+        share = _series(g, alpha[idx]) * area
+        np.add.at(c1, idx, share * alpha[idx])
+        np.add.at(c0, idx, share * beta[idx])
+        if on_face:
+            c1_face[idx] += share * alpha[idx]
+            c0_face[idx] += share * beta[idx]
     mass = grid["solids"]
     matrix = (sp.diags(mass / dt + c1) + lap).tocsc()
-    x_new = spla.spsolve(matrix, mass / dt * x - c0)
+    # symmetric positive definite: a symmetric fill-reducing ordering and diagonal pivots
+    # (4x faster than spsolve's default on 248 x 10 nodes)
+    x_new = spla.splu(matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                      options=dict(SymmetricMode=True)).solve(mass / dt * x - c0)
     flow = c1 * x_new + c0
     flow_face = c1_face * x_new + c0_face
     mult = grid["multiplicity"]
     out_face = mult * dt * flow_face.sum()
     out_edge = mult * dt * (flow.sum() - flow_face.sum())
-    return x_new, out_face, out_edge, dict(face_flux=np.where(face, flow_face, 0.0))
+    return x_new, out_face, out_edge, dict(face_flux=flow_face)
 
 
 def water(grid, x):
@@ -307,21 +322,25 @@ def vapour_surface(kc, t_product, t_air, humidity, gab):
     return law
 
 
-def product_temperature(kc, h, t_air, humidity, gab, x_surface, weight):
-    """Quasi-steady product temperature (deg C): the heat the air brings, h (T_air - T_p),
-    equals the heat of the water that evaporates at T_p, lambda k_c (aw rho_sat(T_p) -
-    rho_air), summed over surfaces with areas ``weight`` and surface moisture
-    ``x_surface``. A thin slice follows it within minutes (its time constant rho c_p L /
-    2h is about 2 min for 2 mm), so its heat capacity is left out. Returns T_air when
-    nothing evaporates."""
-    aw, _ = gab_activity(x_surface, *gab)
-    w = np.asarray(weight, float)
-    rho_air = float(humidity * vapour_density(saturation_pressure(t_air), t_air))
+def product_temperature(kc, h, t_air, humidity, gab, grid, x, d, outline=True):
+    """Quasi-steady product temperature (deg C): the heat the air brings to every surface
+    that exchanges with it, h (T_air - T_p), equals the heat of the water that evaporates
+    there at T_p, the surface law of :func:`vapour_surface` through the same half-cell
+    resistance as in :func:`step`, at node moisture ``x`` and diffusivity ``d``. A thin
+    slice follows it within minutes (its time constant rho c_p L / 2h is about 2 min for
+    2 mm), so its heat capacity is left out. Returns T_air when nothing evaporates."""
+    parts = surface_nodes(grid, d, outline)
+    if not parts:
+        return float(t_air)
+    idx = np.concatenate([p[0] for p in parts])
+    area = np.concatenate([p[1] for p in parts])
+    g = np.concatenate([p[2] for p in parts])
+    xs = x[idx]
 
     def balance(tp):
-        rho_sat = float(vapour_density(saturation_pressure(tp), tp))
-        evap = kc * np.sum(w * np.maximum(aw * rho_sat - rho_air, 0.0))
-        return h * (t_air - tp) * w.sum() - latent_heat(tp) * evap
+        alpha, beta = vapour_surface(kc, tp, t_air, humidity, gab)(xs)
+        evap = np.sum(area * _series(g, alpha) * (alpha * xs + beta))
+        return h * (t_air - tp) * area.sum() - latent_heat(tp) * evap
 
     if balance(t_air) >= 0:
         return float(t_air)
