@@ -248,6 +248,11 @@ def parser():
     t.add_argument("target", type=float, help="moisture X/X0 to reach, e.g. 0.60")
     t.add_argument("--xtol", type=float, default=1e-3, help="tolerance on the initial s")
     t.set_defaults(func=target_job)
+
+    from . import dry_cli
+    d = sub.add_parser("dry", help="dry a tissue slice in air over time (doc/drying.md)")
+    dry_cli.add_arguments(d)
+    d.set_defaults(func=dry_cli.job)
     return p
 
 

@@ -151,18 +151,22 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
         rows.append(row)
         return row, dict(xy=xy, s=mean / x0, surface=surf / x0, core=core / x0)
 
+    def temperature():
+        if not cond["heat"]:
+            return cond["temperature"]
+        # D at the last product temperature for the surface resistance: a lag of one step
+        d = transport.diffusivity(x, t_product, params["D_ref"], params["T_ref"],
+                                  params["D_energy"], params["D_moisture"], x0)
+        return transport.product_temperature(kc, h, cond["temperature"], cond["humidity"],
+                                             gab, grid, x, d, cond["outline"])
+
     t_product = cond["temperature"]
+    t_product = temperature()
     record(0.0)
     t_end = hours * 3600
     while t < t_end - 1e-9 and rows[-1]["X/X0"] > stop:
         dt = min(dt, t_end - t)
-        if cond["heat"]:
-            # D at the air temperature for the surface resistance: a lag of one step
-            t_product = transport.product_temperature(
-                kc, h, cond["temperature"], cond["humidity"], gab, grid, x,
-                transport.diffusivity(x, t_product, params["D_ref"], params["T_ref"],
-                                      params["D_energy"], params["D_moisture"], x0),
-                cond["outline"])
+        t_product = temperature()
         law = transport.vapour_surface(kc, t_product, cond["temperature"], cond["humidity"],
                                        gab)
 
