@@ -112,11 +112,11 @@ def job(args):
     params = drying.read_params(args.params)
     mat_file = material.find(args.material)
     mat = material.with_overrides(material.read(mat_file), args.set)
-    out = new_folder(args.out, "drying")
     if args.data:
         data = Path(args.data).resolve()
         xy, diameters = read_data_positions(data)
-    else:
+    out = new_folder(args.out, "drying")
+    if not args.data:
         xy = tissue.rectangle(args.width * 1e-3, args.height * 1e-3, mat["x_ref"])
         data = out / "tissue.data"
         tissue.write_data(data, xy, 3 * mat["x_ref"], title=f"CGMS {args.width} x "

