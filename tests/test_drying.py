@@ -1,5 +1,6 @@
 """Time-domain drying coupled to the LAMMPS mechanics (cgms.drying; doc/drying.md)."""
 
+import os
 import subprocess
 import sys
 
@@ -61,8 +62,9 @@ def test_uniform_field_equals_moisture_domain(tmp_path):
 
 
 def cli(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "cgms", "dry", *args], cwd=cwd,
-                          env=dict(lammps_env(), PYTHONPATH=str(ROOT / "python")),
+    env = lammps_env()
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "python"), env.get("PYTHONPATH", "")])
+    return subprocess.run([sys.executable, "-m", "cgms", "dry", *args], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=300)
 
 

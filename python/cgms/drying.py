@@ -26,7 +26,7 @@ from . import morphology, run, transport
 CONDITIONS = dict(temperature=70.0, humidity=0.1, velocity=1.5, thickness=2e-3,
                   plate_length=0.04, faces=2, outline=True, heat=True, shrink_thickness=True)
 LEVERS = dict(layers=10, dx_max=0.02, dt_first=1.0, dt_max=600.0, resolve=0.02, ftol=1e-10,
-              max_iterations=20000, s_min=0.05)
+              max_iterations=20000, s_min=0.3)
 
 
 def read_params(name="apple-drying"):
