@@ -57,23 +57,30 @@ def read_params(name="apple-drying"):
 class Mechanics:
     """The tissue in LAMMPS, held at the steady state of a per-bead dryness field:
     ``fix cgms/fluid dryness v_sdry`` (an atom-style variable on a per-atom property),
-    FIRE minimisation with the pressures at balance, warm started from the last shape."""
+    solved with the pressures at balance and warm started from the last shape, by FIRE
+    (``method="fire"``: ``minimize`` to the force tolerance ``ftol``) or by Newton's method
+    (``method="newton"``, :func:`cgms.solve.newton`, at most ``max_iterations``
+    iterations per solve: FIRE diverges on the 20 273-bead tissue, doc/validation.md)."""
 
     def __init__(self, data, material, log="none", ftol=1e-10, max_iterations=20000,
-                 overrides="", diameters=False):
+                 overrides="", diameters=False, method="fire"):
+        if method not in ("fire", "newton"):
+            raise ValueError(f"method must be 'fire' or 'newton', not {method!r}")
         self.lmp = run.open_lammps(log=log)
-        self.ftol, self.max_iterations = ftol, max_iterations
+        self.ftol, self.max_iterations, self.method = ftol, max_iterations, method
         self.solves = 0
         self.seconds = 0.0
         lines = run.tissue_script(Path(data).resolve(), Path(material).resolve(), "v_sdry",
-                                  method="quasistatic", overrides=overrides,
-                                  diameters=diameters).splitlines()
-        # the minimisation is ours; the per-bead fields go in before the fix that reads them
-        lines = [ln for ln in lines if not ln.startswith(("minimize", "min_style", "min_modify"))]
+                                  method="quasistatic" if method == "fire" else "newton",
+                                  overrides=overrides, diameters=diameters).splitlines()
+        # the solves are ours; the per-bead fields go in before the fix that reads them
+        lines = [ln for ln in lines
+                 if not ln.startswith(("minimize", "min_style", "min_modify", "run 0"))]
         at = next(k for k, ln in enumerate(lines) if ln.startswith("pair_style"))
         lines[at:at] = ["fix sdry all property/atom d_sdry d_xsurf d_xcore",
                         "variable sdry atom d_sdry"]
-        lines += ["min_style fire", "min_modify norm max dmax 1e-6"]
+        if method == "fire":
+            lines += ["min_style fire", "min_modify norm max dmax 1e-6"]
         self.lmp.commands_string("\n".join(lines) + "\n")
         self.n = self.lmp.get_natoms()
 
@@ -89,8 +96,16 @@ class Mechanics:
         self._set("d_sdry", s)
         self._set("d_xsurf", s if surface is None else surface)
         self._set("d_xcore", s if core is None else core)
-        self.lmp.command(f"minimize 0.0 {self.ftol} {self.max_iterations} "
-                         f"{10 * self.max_iterations}")
+        if self.method == "fire":
+            self.lmp.command(f"minimize 0.0 {self.ftol} {self.max_iterations} "
+                             f"{10 * self.max_iterations}")
+        else:
+            from . import solve
+            self.lmp.command("run 0 post no")       # the fix takes the new dryness at setup
+            forces = solve.LammpsForces(self.lmp)
+            xy, _ = solve.newton(forces, forces.positions(), self.lmp.extract_pair("cut_global"),
+                                 ftol=self.ftol, max_iterations=self.max_iterations)
+            forces(xy)                              # leave LAMMPS at the solution
         self.solves += 1
         self.seconds += time.perf_counter() - start
         return run.steady_state(self.lmp)["xy"]
