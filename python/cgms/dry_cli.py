@@ -82,11 +82,13 @@ def add_arguments(p):
     p.add_argument("--resolve", type=float, default=drying.LEVERS["resolve"],
                    help="re-solve the shape when a bead's dryness moved this much "
                         "(default %(default)s)")
-    p.add_argument("--solver", choices=("auto", "fire", "newton"), default="auto",
-                   help="shape solver: FIRE or Newton, warm started (auto: Newton above "
-                        "5000 beads, where FIRE diverges)")
-    p.add_argument("--solver-iterations", type=int, default=None,
-                   help="iteration limit per shape solve (default: FIRE 20000, Newton 8)")
+    p.add_argument("--solver", choices=("auto", "fire", "newton", "newton+fire"),
+                   default="auto",
+                   help="shape solver, warm started: FIRE, Newton, or Newton for the fresh "
+                        "state and FIRE after it (auto: FIRE up to 5000 beads, Newton above, "
+                        "where FIRE diverges, also warm started: doc/drying.md)")
+    p.add_argument("--newton-iterations", type=int, default=8,
+                   help="Newton iterations per shape solve (default %(default)s)")
     p.add_argument("--maps", default="0.9,0.7,0.5,0.3,0.1",
                    help="X/X0 levels of the moisture maps and dumps (default %(default)s)")
 
@@ -103,8 +105,8 @@ def _check(args):
     if not -20 < args.temperature < 150:
         sys.exit(f"cgms dry: --temperature {args.temperature} C is outside -20..150 C "
                  "(the air correlations' range)")
-    if args.solver_iterations is not None and args.solver_iterations < 1:
-        sys.exit(f"cgms dry: --solver-iterations must be at least 1, got {args.solver_iterations}")
+    if args.newton_iterations < 1:
+        sys.exit(f"cgms dry: --newton-iterations must be at least 1, got {args.newton_iterations}")
     if args.layers < 1:
         sys.exit(f"cgms dry: --layers must be at least 1, got {args.layers}")
     if args.faces == 0 and args.no_outline:
@@ -138,11 +140,11 @@ def job(args):
     levels = sorted((float(v) for v in args.maps.split(",") if v.strip()), reverse=True)
     print(f"cgms dry: {len(xy)} beads, air {args.temperature:g} C, RH {args.humidity:g}, "
           f"{args.velocity:g} m/s; slice {args.thickness:g} mm; results in {out}", flush=True)
-    solver = args.solver if args.solver != "auto" else ("newton" if len(xy) > 5000 else "fire")
-    iterations = args.solver_iterations or (8 if solver == "newton" else 20000)
+    solver = args.solver if args.solver != "auto" else \
+        ("newton" if len(xy) > 5000 else "fire")
     mech = None if args.frozen else drying.Mechanics(
         data, mat_file, log=out / "log.lammps", overrides=args.set, diameters=diameters,
-        method=solver, max_iterations=iterations, ftol=1e-13 if solver == "newton" else 1e-10)
+        method=solver, newton_iterations=args.newton_iterations)
     maps = []
 
     def snapshot(level, row, state):

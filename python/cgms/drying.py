@@ -59,15 +59,18 @@ class Mechanics:
     ``fix cgms/fluid dryness v_sdry`` (an atom-style variable on a per-atom property),
     solved with the pressures at balance and warm started from the last shape, by FIRE
     (``method="fire"``: ``minimize`` to the force tolerance ``ftol``) or by Newton's method
-    (``method="newton"``, :func:`cgms.solve.newton`, at most ``max_iterations``
-    iterations per solve: FIRE diverges on the 20 273-bead tissue, doc/validation.md)."""
+    (``method="newton"``, :func:`cgms.solve.newton`, at most ``newton_iterations``
+    iterations per solve: FIRE diverges on the 20 273-bead tissue started from the
+    lattice, doc/validation.md), or Newton for the fresh state and FIRE warm started
+    after it (``method="newton+fire"``)."""
 
     def __init__(self, data, material, log="none", ftol=1e-10, max_iterations=20000,
-                 overrides="", diameters=False, method="fire"):
-        if method not in ("fire", "newton"):
-            raise ValueError(f"method must be 'fire' or 'newton', not {method!r}")
+                 overrides="", diameters=False, method="fire", newton_iterations=8):
+        if method not in ("fire", "newton", "newton+fire"):
+            raise ValueError(f"method must be 'fire', 'newton' or 'newton+fire', not {method!r}")
         self.lmp = run.open_lammps(log=log)
         self.ftol, self.max_iterations, self.method = ftol, max_iterations, method
+        self.newton_iterations = newton_iterations
         self.solves = 0
         self.seconds = 0.0
         lines = run.tissue_script(Path(data).resolve(), Path(material).resolve(), "v_sdry",
@@ -79,8 +82,7 @@ class Mechanics:
         at = next(k for k, ln in enumerate(lines) if ln.startswith("pair_style"))
         lines[at:at] = ["fix sdry all property/atom d_sdry d_xsurf d_xcore",
                         "variable sdry atom d_sdry"]
-        if method == "fire":
-            lines += ["min_style fire", "min_modify norm max dmax 1e-6"]
+        lines += ["min_style fire", "min_modify norm max dmax 1e-6"]
         self.lmp.commands_string("\n".join(lines) + "\n")
         self.n = self.lmp.get_natoms()
 
@@ -96,7 +98,7 @@ class Mechanics:
         self._set("d_sdry", s)
         self._set("d_xsurf", s if surface is None else surface)
         self._set("d_xcore", s if core is None else core)
-        if self.method == "fire":
+        if self.method == "fire" or (self.method == "newton+fire" and self.solves > 0):
             self.lmp.command(f"minimize 0.0 {self.ftol} {self.max_iterations} "
                              f"{10 * self.max_iterations}")
         else:
@@ -104,7 +106,7 @@ class Mechanics:
             self.lmp.command("run 0 post no")       # the fix takes the new dryness at setup
             forces = solve.LammpsForces(self.lmp)
             xy, _ = solve.newton(forces, forces.positions(), self.lmp.extract_pair("cut_global"),
-                                 ftol=self.ftol, max_iterations=self.max_iterations)
+                                 ftol=1e-13, max_iterations=self.newton_iterations)
             forces(xy)                              # leave LAMMPS at the solution
         self.solves += 1
         self.seconds += time.perf_counter() - start
