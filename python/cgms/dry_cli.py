@@ -114,18 +114,24 @@ def _check(args):
 
 
 def job(args):
-    from . import plots, tissue
-    from .cli import new_folder
+    from . import folders
 
     _check(args)
     params = drying.read_params(args.params)
     mat_file = material.find(args.material)
     mat = material.with_overrides(material.read(mat_file), args.set)
+    data, xy, diameters = None, None, False
     if args.data:
         data = Path(args.data).resolve()
         xy, diameters = read_data_positions(data)
-    out = new_folder(args.out, "drying")
-    if not args.data:
+    with folders.claim(args.out, "drying") as out:
+        return _run(args, params, mat_file, mat, out, data, xy, diameters)
+
+
+def _run(args, params, mat_file, mat, out, data, xy, diameters):
+    from . import plots, tissue
+
+    if data is None:
         xy = tissue.rectangle(args.width * 1e-3, args.height * 1e-3, mat["x_ref"])
         data = out / "tissue.data"
         tissue.write_data(data, xy, 3 * mat["x_ref"], title=f"CGMS {args.width} x "
