@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import morphology, run, transport
+from . import material, morphology, run, transport
 
 CONDITIONS = dict(temperature=70.0, humidity=0.1, velocity=1.5, thickness=2e-3,
                   plate_length=0.04, faces=2, outline=True, heat=True, shrink_thickness=True)
@@ -31,7 +31,6 @@ LEVERS = dict(layers=10, dx_max=0.02, dt_first=1.0, dt_max=600.0, resolve=0.02, 
 
 def read_params(name="apple-drying"):
     """Transport parameters of a ``potentials/*.params`` file as a dict of floats."""
-    from . import material
     path = Path(name)
     if not path.exists():
         path = material.POTENTIALS / (name if name.endswith(".params") else f"{name}.params")
@@ -64,16 +63,17 @@ class Mechanics:
     lattice, doc/validation.md), or Newton for the fresh state and FIRE warm started
     after it (``method="newton+fire"``)."""
 
-    def __init__(self, data, material, log="none", ftol=1e-10, max_iterations=20000,
+    def __init__(self, data, material_file, log="none", ftol=1e-10, max_iterations=20000,
                  overrides="", diameters=False, method="fire", newton_iterations=8):
         if method not in ("fire", "newton", "newton+fire"):
             raise ValueError(f"method must be 'fire', 'newton' or 'newton+fire', not {method!r}")
         self.lmp = run.open_lammps(log=log)
         self.ftol, self.max_iterations, self.method = ftol, max_iterations, method
         self.newton_iterations = newton_iterations
+        self.mat = material.with_overrides(material.read(material_file), overrides)
         self.solves = 0
         self.seconds = 0.0
-        lines = run.tissue_script(Path(data).resolve(), Path(material).resolve(), "v_sdry",
+        lines = run.tissue_script(Path(data).resolve(), Path(material_file).resolve(), "v_sdry",
                                   method="quasistatic" if method == "fire" else "newton",
                                   overrides=overrides, diameters=diameters).splitlines()
         # the solves are ours; the per-bead fields go in before the fix that reads them
@@ -104,10 +104,19 @@ class Mechanics:
         else:
             from . import solve
             self.lmp.command("run 0 post no")       # the fix takes the new dryness at setup
-            forces = solve.LammpsForces(self.lmp)
-            xy, _ = solve.newton(forces, forces.positions(), self.lmp.extract_pair("cut_global"),
-                                 ftol=1e-13, max_iterations=self.newton_iterations)
-            forces(xy)                              # leave LAMMPS at the solution
+            if self.solves == 0:
+                # the fresh state from the lattice: swell it to the steady spacing first
+                # and converge it (run.solve_newton, as cgms study does): it is the
+                # reference of A/A0, and a reference left short of its minimum lets the
+                # later, warm-started solves keep swelling (A/A0 of 1.008 at X/X0 = 0.95
+                # measured with 3 iterations)
+                run.solve_newton(self.lmp, spacing=material.steady_spacing(self.mat, 1.0))
+            else:
+                forces = solve.LammpsForces(self.lmp)
+                xy, _ = solve.newton(forces, forces.positions(),
+                                     self.lmp.extract_pair("cut_global"), ftol=1e-13,
+                                     max_iterations=self.newton_iterations)
+                forces(xy)                          # leave LAMMPS at the solution
         self.solves += 1
         self.seconds += time.perf_counter() - start
         return run.steady_state(self.lmp)["xy"]
