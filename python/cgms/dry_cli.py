@@ -150,7 +150,8 @@ def _run(args, params, mat_file, mat, out, data, xy, diameters):
         ("newton" if len(xy) > 5000 else "fire")
     mech = None if args.frozen else drying.Mechanics(
         data, mat_file, log=out / "log.lammps", overrides=args.set, diameters=diameters,
-        method=solver, newton_iterations=args.newton_iterations)
+        method=solver, newton_iterations=args.newton_iterations,
+        first_iterations=8 if len(xy) > 5000 else 60)
     maps = []
 
     def snapshot(level, row, state):

@@ -61,15 +61,16 @@ class Mechanics:
     (``method="newton"``, :func:`cgms.solve.newton`, at most ``newton_iterations``
     iterations per solve: FIRE diverges on the 20 273-bead tissue started from the
     lattice, doc/validation.md), or Newton for the fresh state and FIRE warm started
-    after it (``method="newton+fire"``)."""
+    after it (``method="newton+fire"``). ``first_iterations`` bounds the Newton solve of
+    the fresh state (the reference of A/A0), which starts from the lattice."""
 
     def __init__(self, data, material_file, log="none", ftol=1e-10, max_iterations=20000,
-                 overrides="", diameters=False, method="fire", newton_iterations=8):
+                 overrides="", diameters=False, method="fire", newton_iterations=8, first_iterations=60):
         if method not in ("fire", "newton", "newton+fire"):
             raise ValueError(f"method must be 'fire', 'newton' or 'newton+fire', not {method!r}")
         self.lmp = run.open_lammps(log=log)
         self.ftol, self.max_iterations, self.method = ftol, max_iterations, method
-        self.newton_iterations = newton_iterations
+        self.newton_iterations, self.first_iterations = newton_iterations, first_iterations
         self.mat = material.with_overrides(material.read(material_file), overrides)
         self.solves = 0
         self.seconds = 0.0
@@ -110,7 +111,8 @@ class Mechanics:
                 # reference of A/A0, and a reference left short of its minimum lets the
                 # later, warm-started solves keep swelling (A/A0 of 1.008 at X/X0 = 0.95
                 # measured with 3 iterations)
-                run.solve_newton(self.lmp, spacing=material.steady_spacing(self.mat, 1.0))
+                run.solve_newton(self.lmp, spacing=material.steady_spacing(self.mat, 1.0),
+                                 max_iterations=self.first_iterations)
             else:
                 forces = solve.LammpsForces(self.lmp)
                 xy, _ = solve.newton(forces, forces.positions(),
