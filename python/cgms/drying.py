@@ -136,7 +136,9 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
         snapshots=(), on_snapshot=None, transport_geometry=True):
     """Dry the tissue whose fresh bead positions (id order) are ``xy`` for ``hours`` or
     until its X/X0 falls to ``stop``. ``mechanics``: a :class:`Mechanics` (None: the shape
-    is frozen). ``snapshots``: X/X0 values at which ``on_snapshot(row, state)`` is called.
+    is frozen). ``snapshots``: X/X0 levels; when the tissue first reaches one,
+    ``on_snapshot(level, row, state)`` is called (``state``: positions and each bead's mean,
+    surface and core X/X0).
     ``transport_geometry`` False keeps the transport geometry of the fresh tissue while the
     mechanics moves (an ingredient switch, and the moisture-domain check).
     Returns dict(rows=[...], x=node moisture, grid=..., xy=positions, balance=...)."""
@@ -188,7 +190,7 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
         return transport.product_temperature(kc, h, cond["temperature"], cond["humidity"],
                                              gab, grid, x, d, cond["outline"])
 
-    t_product = cond["temperature"]
+    t_product = cond["temperature"]     # the first guess temperature() starts from
     t_product = temperature()
     record(0.0)
     t_end = hours * 3600
