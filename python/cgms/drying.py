@@ -121,15 +121,23 @@ class Mechanics:
                 forces(xy)                          # leave LAMMPS at the solution
         self.solves += 1
         self.seconds += time.perf_counter() - start
-        return run.steady_state(self.lmp)["xy"]
+        # gathered in id order on every process (collective), so the moisture loop, which
+        # every process runs alike, works under mpirun too
+        x = np.ctypeslib.as_array(self.lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+        return x[:, :2].copy()
 
     def dump(self, path):
         compute, columns, names = run.dump_columns()
         self.lmp.command(f"write_dump all custom {path} {columns} d_xsurf d_xcore "
                          f"modify sort id {names}")
 
-    def close(self):
-        self.lmp.close()
+    def close(self, finalize=False):
+        """Close LAMMPS; ``finalize`` also ends MPI (the last call of a script run under
+        mpirun)."""
+        if finalize:
+            self.lmp.finalize()
+        else:
+            self.lmp.close()
 
 
 def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics=None,
