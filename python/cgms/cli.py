@@ -20,8 +20,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, folders, material, morphology, pictures, plots, positions,
-               study, superpose, tissue)
+from . import (calibrate, dry_cli, folders, material, morphology, pictures, plots,
+               positions, study, superpose, tissue)
 from .fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
@@ -650,6 +650,8 @@ COMMANDS = {
     "target": ("initial dryness whose steady state reaches X/X0", target_arguments, target_job),
     "tissue": ("build a tissue data file (python3 -m cgms.tissue)", tissue_parser_arguments,
                tissue_job),
+    "dry": ("dry a tissue slice in air over time (doc/drying.md)", dry_cli.add_arguments,
+            dry_cli.job),
 }
 
 
