@@ -1,5 +1,8 @@
 /* ----------------------------------------------------------------------
    CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
 ------------------------------------------------------------------------- */
 
 #include "atom_vec_cgms.h"

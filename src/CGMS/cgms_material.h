@@ -1,5 +1,8 @@
 /* -*- c++ -*- ----------------------------------------------------------
    CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_CGMS_MATERIAL_H
@@ -15,7 +18,7 @@ class LAMMPS;
 
 namespace CGMS {
 
-  // Material parameters of one plant tissue (MODEL.md section 7), SI units,
+  // Material parameters of one plant tissue (doc/model.md, Parameters), SI units,
   // plus the reference-cell quantities derived from them (section 3).
   struct Material {
     double k_T = 0.0;       // turgor coefficient (N/Pa)

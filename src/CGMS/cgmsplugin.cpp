@@ -1,6 +1,9 @@
 /* ----------------------------------------------------------------------
    CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
+
    Registers every CGMS style. `plugin load cgmsplugin.so` (or a folder in
    LAMMPS_PLUGIN_PATH) makes atom_style cgms, pair_style cgms and
    fix cgms/fluid available.

@@ -1,5 +1,8 @@
 /* ----------------------------------------------------------------------
    CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
 ------------------------------------------------------------------------- */
 
 #include "fix_cgms_fluid.h"
@@ -467,7 +470,7 @@ void FixCGMSFluid::check_dryness_range(double s_min, double s_max)
 
 /* ----------------------------------------------------------------------
    beads read from a data file or created carry MF0 <= 0: give them the
-   reference cell at their dryness (MODEL.md section 3)
+   reference cell at their dryness (doc/model.md, Reference cell and initial state)
 ------------------------------------------------------------------------- */
 
 bigint FixCGMSFluid::initialise_beads()
@@ -485,7 +488,7 @@ bigint FixCGMSFluid::initialise_beads()
     double *c = cg[i];
     if (c[MF0] <= 0.0) {
       fresh++;
-      // the reference cell of MODEL.md 3, for this bead's cell diameter
+      // the reference cell of doc/model.md, for this bead's cell diameter
       const double d = diameter[i];
       if (!(d > 0.0) && bad < 0) bad = i;
       const double area_ref = MY_PI * d * d / 4.0;
@@ -755,7 +758,7 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
   const double perim_slope = mat.perim_a / mat.perim_b;
   const int advance_mass = advance && transfer;
   // the quasi-static solve: under minimize every bead holds the pressure of
-  // the steady state, P = -Pi (MODEL.md 8), its density from eqn (4) and the
+  // the steady state, P = -Pi (doc/model.md, Steady state), its density from eqn (4) and the
   // fluid mass that density fills its current cell with
   const int balance = always_balance || (minimize_balance && update->whichflag == 2);
   double *rmass = atom->rmass;
@@ -1123,7 +1126,7 @@ void FixCGMSFluid::isolated_error(int i)
    k_d lambda_max dt / m < 2, lambda_max the largest eigenvalue of the bead
    graph's Laplacian. It is 9 for the hexagonal lattice (N = 6); the check
    uses 1.5 N_i per bead, which is that value and grows with denser
-   neighbourhoods. (MODEL.md 8: s = 0.3 with the paper's inertia explodes at
+   neighbourhoods. (doc/model.md, Time integration: s = 0.3 with the paper's inertia explodes at
    dt = 5e-8 s and runs at 3e-8 s; this gives 3.9e-8 s at the start.)
    Checked at setup and, since masses and neighbour counts change, every step.
 ------------------------------------------------------------------------- */

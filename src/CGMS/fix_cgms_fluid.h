@@ -1,5 +1,8 @@
 /* -*- c++ -*- ----------------------------------------------------------
    CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_FIX_CGMS_FLUID_H

@@ -1,5 +1,8 @@
 /* -*- c++ -*- ----------------------------------------------------------
    CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
 ------------------------------------------------------------------------- */
 
 #ifndef LMP_PAIR_CGMS_H
@@ -10,7 +13,7 @@
 
 namespace LAMMPS_NS {
 
-// The five pairwise forces of the CGMS model (MODEL.md section 6): turgor and
+// The five pairwise forces of the CGMS model (doc/model.md, Forces): turgor and
 // perimeter adjustment (through the per-bead coefficient that fix cgms/fluid
 // computes), relative-velocity damping, and LJ repulsion and attraction.
 class PairCGMS : public Pair {
