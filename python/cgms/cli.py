@@ -248,6 +248,9 @@ def parser():
     t.add_argument("target", type=float, help="moisture X/X0 to reach, e.g. 0.60")
     t.add_argument("--xtol", type=float, default=1e-3, help="tolerance on the initial s")
     t.set_defaults(func=target_job)
+
+    from . import mfc_cli
+    mfc_cli.add_parser(sub)
     return p
 
 
