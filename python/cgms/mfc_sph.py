@@ -23,7 +23,7 @@ from .mfc_model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
 SUPPORT = 13.0e-6    # Lucy kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
-TAU = 2.0e-6         # damping time of fix viscous, s
+TAU = 2.0e-7         # damping time of fix viscous, s (2 us: the fresh cell inflates, doc/mfc.md)
 
 
 def tait(p, s):
@@ -111,20 +111,26 @@ def sph_commands(p, s):
         [f"pair_coeff {c} {c} {coef}" for c in (4, 5, 6)]
 
 
-def level_commands(p, s, s_old):
-    """Dry from ``s_old`` to ``s`` (MFC.md 5.2): masses and densities of fluid and wall
-    scaled by s / s_old (SPH volumes m/rho unchanged), the EOS of s, the contracted wall
-    rest length, the damping of the new masses."""
-    f = s / s_old
+def level_commands(p, s):
+    """The levers of level ``s`` (MFC.md 5.2) but the densities (:func:`dry`): masses of
+    fluid and wall, the EOS of s, the contracted wall rest length, the damping of the
+    new masses."""
     lv = level(p, s)
     mw, mf = lv["wall_mass"], s * fluid_mass(p)
-    lines = [f"mass 1*3 {mw:.10g}", f"mass 4*6 {mf:.10g}",
-             f"variable rnew atom rho*{f:.17g}", "run 0 post no",
-             "set group all sph/rho v_rnew", "variable rnew delete"] if f != 1.0 else []
-    lines += sph_commands(p, s)
-    lines += [f"bond_coeff 1 {p['k_bond'] / 2:.10g} {lv['r0_bond']:.10g}",
-              f"fix dw wall viscous {mw / TAU:.10g}", f"fix df fluid viscous {mf / TAU:.10g}"]
-    return lines
+    return [f"mass 1*3 {mw:.10g}", f"mass 4*6 {mf:.10g}"] + sph_commands(p, s) + [
+        f"bond_coeff 1 {p['k_bond'] / 2:.10g} {lv['r0_bond']:.10g}",
+        f"fix dw wall viscous {mw / TAU:.10g}", f"fix df fluid viscous {mf / TAU:.10g}"]
+
+
+def dry(lmp, p, s, s_old):
+    """Dry from ``s_old`` to ``s``: masses and densities of fluid and wall scaled by
+    s / s_old together, so SPH volumes m/rho are unchanged and the pressure drops until
+    the cell has contracted to its new fluid mass; then :func:`level_commands`. Works on
+    each rank's own particles (run under mpirun, every rank executes it)."""
+    nlocal = lmp.extract_global("nlocal")
+    rho = lmp.numpy.extract_atom("rho")
+    rho[:nlocal] *= s / s_old
+    lmp.commands_list(level_commands(p, s))
 
 
 def wall_positions(lmp, p):
