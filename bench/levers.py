@@ -33,7 +33,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 
-from cgms import calibrate, material, morphology, run, tissue  # noqa: E402
+from cgms import material, morphology, run, superpose, tissue  # noqa: E402
 
 APPLE = ROOT / "potentials" / "apple.cgms"
 
@@ -80,7 +80,7 @@ def solve(data, s, method, options, ftol=1e-13):
 
 
 def score(xy, ref, x_ref):
-    a = calibrate.align(xy, ref, "rigid")  # the best rotation and shift onto ref
+    a = superpose.align(xy, ref, "rigid")  # the best rotation and shift onto ref
     ma, mb = morphology.measures(a), morphology.measures(ref)
     out = {"max_disp/x_ref": np.abs(a - ref).max() / x_ref}
     for key in ("area", "perimeter", "elongation"):

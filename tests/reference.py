@@ -1,4 +1,4 @@
-"""An independent NumPy implementation of MODEL.md sections 4-6, written from the
+"""An independent NumPy implementation of doc/model.md, written from the
 specification (not from the plugin's source), for comparison with the plugin.
 
 All pairs are handled as dense (n, n) arrays: clear rather than fast, for the
@@ -10,7 +10,7 @@ SQRT3 = np.sqrt(3.0)
 
 
 def lj_radius(s, mat):
-    """r = r0 (1 + lj_slope ln s_ik) for every pair, s_ik the mean dryness (MODEL.md 6)."""
+    """r = r0 (1 + lj_slope ln s_ik) for every pair, s_ik the mean dryness (doc/model.md)."""
     s_ik = 0.5 * (s[:, None] + s[None, :])
     return mat["r0"] * (1.0 + mat["lj_slope"] * np.log(s_ik))
 
@@ -30,7 +30,7 @@ def pair_geometry(xy, s, mat, cutoff):
 def fluid_state(xy, s, mf, l0p, mat, cutoff, periphery=True, turgor=True, perimeter=True,
                 transfer=True, implicit_dt=None):
     """Per-bead geometry (eqns 10, 11), density, pressure (eqn 4, reference state of
-    MODEL.md 3), equilibrium perimeter (eqn 9), dm/dt (eqn 7) and the scalar c_i with
+    doc/model.md), equilibrium perimeter (eqn 9), dm/dt (eqn 7) and the scalar c_i with
     F_T + F_PA = (c_i + c_k) n.
 
     With ``implicit_dt`` the rate is the one a linearised backward Euler step of length

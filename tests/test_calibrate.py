@@ -8,7 +8,8 @@ import time
 import numpy as np
 import pytest
 
-from cgms import calibrate, material, morphology, study, tissue
+from cgms import (calibrate, cli, fitparams, material, morphology, pool, positions, study,
+                  superpose, tissue)
 from cgmstest import APPLE, MAT
 
 # the reference parameters of the recovery test: factors on apple's values
@@ -38,7 +39,7 @@ def references(tissue86, tmp_path_factory):
             for s in LEVELS}
     assert all(r["converged"] for r in runs.values())
     order = np.random.default_rng(3).permutation(86)
-    fresh = calibrate.write_centroids(folder / "fresh.txt", runs[1.0]["xy"][order],
+    fresh = positions.write_centroids(folder / "fresh.txt", runs[1.0]["xy"][order],
                                       ids=order + 1, comment="CGMS at k_T x2, k_PA x0.5")
     return {1.0: fresh, 0.3: folder / "tissue.s0.3.dump"}, runs
 
@@ -51,17 +52,17 @@ def test_rmsd_is_eqn_2_after_removing_the_rigid_motion():
     d = rng.normal(0, 1e-6, q.shape)
     p = q + d
     # eqn (2): root of the mean over beads of the squared distance (not over coordinates)
-    assert calibrate.rmsd(p, q, "none") == pytest.approx(math.sqrt((d ** 2).sum(1).mean()))
+    assert superpose.rmsd(p, q, "none") == pytest.approx(math.sqrt((d ** 2).sum(1).mean()))
     shifted = p + [3e-4, -2e-4]
-    assert calibrate.rmsd(shifted, q, "none") > 100 * calibrate.rmsd(p, q, "none")
+    assert superpose.rmsd(shifted, q, "none") > 100 * superpose.rmsd(p, q, "none")
     dd = d - d.mean(0)
-    assert calibrate.rmsd(shifted, q) == pytest.approx(math.sqrt((dd ** 2).sum(1).mean()))
+    assert superpose.rmsd(shifted, q) == pytest.approx(math.sqrt((dd ** 2).sum(1).mean()))
     c, s = math.cos(0.2), math.sin(0.2)
     turned = (q - q.mean(0)) @ np.array([[c, -s], [s, c]]).T + [1e-3, 5e-4]
-    assert calibrate.rmsd(turned, q, "translation") > 1e-5
-    assert calibrate.rmsd(turned, q, "rigid") < 1e-15
+    assert superpose.rmsd(turned, q, "translation") > 1e-5
+    assert superpose.rmsd(turned, q, "rigid") < 1e-15
     with pytest.raises(ValueError, match="align must be one of"):
-        calibrate.rmsd(p, q, "affine")
+        superpose.rmsd(p, q, "affine")
 
 
 # --------------------------------------------------------------------------- references
@@ -71,8 +72,9 @@ def write_ref(path, ids, xy):
     return path
 
 
+@pytest.mark.lammps
 def test_reference_with_the_wrong_bead_count_fails_clearly(tissue86, tmp_path):
-    xy = calibrate.data_positions(tissue86)
+    xy = positions.read_data(tissue86)["xy"]
     short = write_ref(tmp_path / "short.txt", range(1, 86), xy[:85])
     with pytest.raises(ValueError, match=r"s = 0.3 .*short.txt.* has 85 beads but the tissue "
                                          r"has 86; lacks tissue id\(s\) 86"):
@@ -89,8 +91,9 @@ def test_reference_with_the_wrong_bead_count_fails_clearly(tissue86, tmp_path):
     assert not (out / calibrate.CACHE).exists()
 
 
+@pytest.mark.lammps
 def test_reference_with_the_wrong_ids_fails_clearly(tissue86, tmp_path):
-    xy = calibrate.data_positions(tissue86)
+    xy = positions.read_data(tissue86)["xy"]
     ids = np.arange(1, 87)
     ids[40] = 200
     other = write_ref(tmp_path / "other.txt", ids, xy)
@@ -115,7 +118,7 @@ def test_reference_with_the_wrong_ids_fails_clearly(tissue86, tmp_path):
     bad = tmp_path / "bad.txt"
     bad.write_text("# centroids\n1 0.1 0.2\n2 0.3\n")
     with pytest.raises(ValueError, match=r"bad.txt line 3: expected 'id x y'"):
-        calibrate.read_centroids(bad)
+        positions.read_centroids(bad)
     micro = write_ref(tmp_path / "um.txt", range(1, 87), xy * 1e6)
     with pytest.raises(ValueError, match="must be in metres"):
         calibrate.calibrate(tissue86, APPLE, {1.0: micro}, tmp_path / "fit", progress=False)
@@ -124,46 +127,47 @@ def test_reference_with_the_wrong_ids_fails_clearly(tissue86, tmp_path):
 def test_parameter_names_and_the_material_they_stand_for():
     mat = material.read(APPLE)
     with pytest.raises(ValueError, match="unknown parameter 'k_X'"):
-        calibrate.parse_parameters(["k_X"], mat, LEVELS)
+        fitparams.parse_parameters(["k_X"], mat, LEVELS)
     with pytest.raises(ValueError, match="'beta' scales beta_a and beta_b together"):
-        calibrate.parse_parameters(["beta", "beta_b"], mat, LEVELS)
+        fitparams.parse_parameters(["beta", "beta_b"], mat, LEVELS)
     with pytest.raises(ValueError, match="no reference at s = 0.5"):
-        calibrate.parse_parameters(["beta@0.5"], mat, LEVELS)
+        fitparams.parse_parameters(["beta@0.5"], mat, LEVELS)
     with pytest.raises(ValueError, match="bounds given for parameter"):
-        calibrate.parse_parameters(["k_T"], mat, LEVELS, bounds={"k_PA": (0.5, 2)})
-    params = calibrate.parse_parameters(["k_PA", "beta@*"], mat, LEVELS)
+        fitparams.parse_parameters(["k_T"], mat, LEVELS, bounds={"k_PA": (0.5, 2)})
+    params = fitparams.parse_parameters(["k_PA", "beta@*"], mat, LEVELS)
     assert [p.name for p in params] == ["k_PA", "beta@1", "beta@0.3"]
     assert params[2].start == pytest.approx(1.0311 + 0.1088 * math.log(0.3))
     values = [3.0, 1.1, 0.95]
-    assert calibrate.overrides(params, values, mat, 0.3) == "k_PA 3.0 beta_a 0.95 beta_b 0.0"
-    assert calibrate.overrides(params, values, mat, 1.0) == "k_PA 3.0 beta_a 1.1 beta_b 0.0"
+    assert fitparams.overrides(params, values, mat, 0.3) == "k_PA 3.0 beta_a 0.95 beta_b 0.0"
+    assert fitparams.overrides(params, values, mat, 1.0) == "k_PA 3.0 beta_a 1.1 beta_b 0.0"
     # per-level betas -> the law a + b ln s through them
-    fitted = calibrate.fitted_material(params, values, mat, LEVELS)
+    fitted = fitparams.fitted_material(params, values, mat, LEVELS)
     assert fitted["k_PA"] == 3.0 and fitted["beta_a"] == pytest.approx(1.1)
     assert fitted["beta_b"] == pytest.approx((1.1 - 0.95) / -math.log(0.3))
 
 
 def test_material_file_is_new_and_reads_back(tmp_path):
-    path = calibrate.write_material(tmp_path / "fit.cgms", APPLE, {"k_T": 2.5e-10}, "a note")
+    path = material.write(tmp_path / "fit.cgms", APPLE, {"k_T": 2.5e-10}, "a note")
     text = path.read_text()
     assert text.startswith("# DATE: ") and "UNITS: si" in text.splitlines()[0]
     assert "a note" in text and "fitted (start 1e-10)" in text
     assert material.read(path)["k_T"] == 2.5e-10
     assert material.read(path)["k_PA"] == MAT["k_PA"]
     with pytest.raises(FileExistsError, match="exists"):
-        calibrate.write_material(path, APPLE, {"k_T": 3e-10})
+        material.write(path, APPLE, {"k_T": 3e-10})
     assert material.read(path)["k_T"] == 2.5e-10
 
 
 def test_command_line_rejects_bad_arguments(capsys):
-    assert calibrate.main(["--reference", "fresh.txt"]) == 2
+    assert cli.main(["calibrate", "--reference", "fresh.txt"]) == 2
     assert "expected LEVEL=FILE" in capsys.readouterr().err
-    assert calibrate.main(["--reference", "1=a.txt", "--start", "k_T"]) == 2
+    assert cli.main(["calibrate", "--reference", "1=a.txt", "--start", "k_T"]) == 2
     assert "expected name=value" in capsys.readouterr().err
 
 
 # --------------------------------------------------------------------------- recovery
 
+@pytest.mark.lammps
 def test_fit_recovers_known_parameters_and_resumes(tissue86, references, tmp_path):
     """The issue's test: references from CGMS at k_T x2, k_PA x0.5, beta x1.05 (s = 1 and
     0.3); fitted from apple's values, every parameter within 2 %. Then the fit is cut
@@ -214,24 +218,27 @@ def test_fit_recovers_known_parameters_and_resumes(tissue86, references, tmp_pat
     assert third["parameters"] == result["parameters"]
 
 
+@pytest.mark.lammps
 def test_cache_of_another_setup_is_refused(tissue86, tmp_path):
     out = tmp_path / "fit"
     out.mkdir()
-    (out / calibrate.SETUP).write_text(json.dumps({"data_sha256": "0"}))
-    xy = calibrate.data_positions(tissue86)
-    with pytest.raises(ValueError, match="evaluations of another setup"):
+    (out / pool.SETUP).write_text(json.dumps({"data_sha256": "0"}))
+    xy = positions.read_data(tissue86)["xy"]
+    with pytest.raises(ValueError, match="another setup"):
         calibrate.calibrate(tissue86, APPLE, {1.0: xy}, out, progress=False)
 
 
+@pytest.mark.lammps
 def test_reference_dump_is_read_by_id(references):
     refs, runs = references
     frame = morphology.read_dump(refs[0.3], engine="numpy")[-1]
-    ids, xy = calibrate.read_centroids(refs[0.3])
+    ids, xy = positions.read_centroids(refs[0.3])
     assert np.array_equal(ids, frame["ids"]) and np.allclose(xy, runs[0.3]["xy"], atol=1e-12)
-    ids, xy = calibrate.read_centroids(refs[1.0])
+    ids, xy = positions.read_centroids(refs[1.0])
     assert np.array_equal(calibrate.match(ids, xy, np.arange(1, 87)), runs[1.0]["xy"])
 
 
+@pytest.mark.lammps
 def test_fit_per_level_beta_against_a_moved_reference(tissue86, references, tmp_path):
     """beta at each level (beta@*) with k_T and k_PA, against references given in another
     frame (turned by 10 degrees and shifted): with align="rigid" the frame does not matter,

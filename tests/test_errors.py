@@ -4,6 +4,8 @@ import pytest
 
 from cgmstest import APPLE, PLUGIN, make_tissue, run_lmp
 
+pytestmark = pytest.mark.lammps
+
 GOOD = {
     "units": "units si",
     "dimension": "dimension 2",

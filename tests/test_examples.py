@@ -1,6 +1,5 @@
 """Every example input runs to its end (serially and on 2 ranks) and reaches steady state."""
 
-import os
 import re
 import shutil
 import subprocess
@@ -9,6 +8,8 @@ from pathlib import Path
 import pytest
 
 from cgmstest import LMP, PLUGIN, ROOT, lammps_env
+
+pytestmark = pytest.mark.lammps
 
 EXAMPLES = sorted((ROOT / "examples").glob("*/in.*"))
 

@@ -34,80 +34,30 @@ Long variants are marked ``slow`` and skipped unless CGMS_SLOW is set:
 """
 
 import math
-import os
-import time
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-from cgmstest import APPLE, MAT, PLUGIN, XREF, read_dump, run_lmp
-from cgms import morphology, tissue
+from cgmstest import (MAT, XREF, assert_steady_perimeters, healthy, pair_cutoff, run_tissue,
+                      slow)
+from cgms import model, morphology, tissue
 
-# ------------------------------------------------------------------------------- markers
-
-_config = getattr(pytest.mark, "_config", None)  # register 'slow' without touching conftest
-if _config is not None:
-    _config.addinivalue_line("markers", "slow: long variant, run with CGMS_SLOW=1 -m slow")
-warnings.filterwarnings("ignore", category=pytest.PytestUnknownMarkWarning)
-
-
-def slow(test):
-    """A long variant: marked ``slow`` and skipped unless CGMS_SLOW is set."""
-    return pytest.mark.slow(pytest.mark.skipif(
-        not os.environ.get("CGMS_SLOW"), reason="long variant: CGMS_SLOW=1 pytest -m slow")(test))
-
-
-# ------------------------------------------------------------------------------- physics
+pytestmark = pytest.mark.lammps
 
 DT = 1e-7
 MM = 1e-3
-SOLID = MAT["solid_ratio"]
-M_FRESH = (1 + SOLID) * MAT["rho0"] * MAT["height"] * MAT["A_ref"]  # default inertial mass
-DAMPING_LIMIT = 2 * M_FRESH / (1.5 * 6 * MAT["k_d"])  # 1.296e-7 s for a bead with 6 neighbours
+#: the damping's time-step limit of a fresh bead with 6 neighbours (1.296e-7 s)
+DAMPING_LIMIT = float(model.damping_dt_limit(model.fresh_mass(MAT), 6, MAT["k_d"]))
 
 
-def beta(s):
-    return MAT["beta_a"] + MAT["beta_b"] * np.log(s)
+def steady_perimeter(s, diameter=None, **coefficients):
+    return model.steady_perimeter(MAT, s, diameter, **coefficients)
 
 
-def l0p_of(diameter):
-    area = np.pi * np.asarray(diameter) ** 2 / 4
-    return MAT["turgid_ratio"] * 6 * np.sqrt(2 * area / (3 * math.sqrt(3)))
-
-
-def steady_perimeter(s, diameter=MAT["diameter"], k_T=MAT["k_T"], k_PA=MAT["k_PA"]):
-    """l*_i of the module docstring: the perimeter at which c_i = 0 with P_i = -s_i Pi_f."""
-    s = np.asarray(s, float)
-    ld = l0p_of(diameter) * (1 - MAT["perim_a"] / MAT["perim_b"] * (1 - s))
-    return ld - k_T / k_PA * (MAT["P_f"] + s * MAT["Pi_f"])
-
-
-def balance_density(s):
-    """rho with P = s P_f + K ((rho / (s rho0))^7 - 1) = -s Pi_f."""
-    s = np.asarray(s, float)
-    return s * MAT["rho0"] * (1 - s * (MAT["Pi_f"] + MAT["P_f"]) / MAT["K"]) ** (1 / 7)
-
-
-def hexagon_area(perimeter):
-    return 1.5 * math.sqrt(3) * (np.asarray(perimeter) / 6) ** 2
-
-
-def predicted_moisture(s, diameter=MAT["diameter"], **coefficients):
-    s = np.broadcast_to(np.asarray(s, float), np.shape(diameter) or np.shape(s))
-    mf = balance_density(s) * MAT["height"] * hexagon_area(
-        steady_perimeter(s, diameter, **coefficients))
-    mf0 = MAT["rho0"] * MAT["height"] * np.pi * np.broadcast_to(diameter, s.shape) ** 2 / 4
-    return float(np.sum(mf) / np.sum(mf0))
-
-
-def pair_cutoff(si, sk):
-    """The default cutoff of a pair, 1.35 r(s_ik) (pair_style cgms cutoff/lj 1.35)."""
-    return 1.35 * MAT["r0"] * (1 + MAT["lj_slope"] * np.log(0.5 * (si + sk)))
+def predicted_moisture(s, diameter=None, **coefficients):
+    return model.steady_moisture(MAT, s, diameter, **coefficients)
 
 
 # ------------------------------------------------------------------------------- tissues
@@ -146,11 +96,6 @@ def outline_area(xy):
         return morphology.measures(xy)["area"]
 
 
-# ------------------------------------------------------------------------------- running
-
-COLUMNS = ["nneigh", "pressure", "area", "perim", "ldeq", "mf", "mf0", "dryness"]
-THERMO = ["step", "atoms", "residual", "moisture", "speed", "kinetic", "nmin", "nmax", "pmax"]
-
 EDGE_FIELD = """variable xc equal 0.5*(bound(all,xmin)+bound(all,xmax))
 variable yc equal 0.5*(bound(all,ymin)+bound(all,ymax))
 variable hx equal 0.5*(bound(all,xmax)-bound(all,xmin))
@@ -159,138 +104,6 @@ variable ex atom abs(x-v_xc)/v_hx
 variable ey atom abs(y-v_yc)/v_hy
 variable edge atom ternary(v_ex>v_ey,v_ex,v_ey)
 """
-
-
-class Run:
-    """One LAMMPS run of a tissue: thermo rows (``THERMO`` plus extra columns), the final
-    per-bead state (``end``: x, y, vx, vy and ``COLUMNS``), the error line, the wall time."""
-
-    def __init__(self, folder, proc, columns, wall):
-        self.folder, self.proc, self.wall = Path(folder), proc, wall
-        self.error = next((line for line in proc.stdout.splitlines() if "ERROR" in line), "")
-        rows = []
-        for line in proc.stdout.splitlines():
-            words = line.split()
-            if len(words) == len(columns) and words[0].isdigit():
-                try:
-                    rows.append([float(w) for w in words])
-                except ValueError:
-                    pass
-        self.thermo = {c: np.array([r[k] for r in rows]) for k, c in enumerate(columns)}
-        self.end = None
-        if proc.returncode == 0 and (self.folder / "end.dump").exists():
-            raw = read_dump(self.folder / "end.dump")
-            self.end = {name: raw[f"c_c[{k + 1}]"] for k, name in enumerate(COLUMNS)}
-            self.end.update({c: raw[c] for c in ("id", "x", "y", "vx", "vy")})
-
-    @property
-    def xy(self):
-        return np.column_stack([self.end["x"], self.end["y"]])
-
-    @property
-    def moisture(self):
-        return float(self.end["mf"].sum() / self.end["mf0"].sum())
-
-    def last(self, name):
-        return float(self.thermo[name][-1])
-
-    def tail(self):
-        return self.proc.stdout[-3000:] + self.proc.stderr[-2000:]
-
-
-def run_tissue(folder, xy, dryness="1.0", steps=100000, dt=DT, every=None, pre="",
-               pair_args="", fix_args="", coefficients="", after="", diameters=None,
-               nprocs=1, margin=5.0, extra_thermo=(), dumps=""):
-    """Write ``xy`` as a data file and run it. ``dryness``: a number or v_name (``pre``
-    defines variables); ``after``: commands after the first run (a second stage, written
-    before the final dump); ``coefficients``: pair_coeff overrides."""
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    tissue.write_data(folder / "tissue.data", xy, margin * XREF, overwrite=True,
-                      diameters=diameters)
-    every = every or max(steps // 20, 1)
-    if diameters is not None:
-        read = ["fix diam all property/atom d_diameter",
-                "read_data tissue.data fix diam NULL Diameters",
-                "variable diameter atom d_diameter"]
-        fix_args = f"diameter v_diameter {fix_args}"
-    else:
-        read = ["read_data tissue.data"]
-    thermo = THERMO + [name for name, _ in extra_thermo]
-    lines = [
-        f"plugin load {PLUGIN}", "units si", "dimension 2", "boundary f f p",
-        f"processors {nprocs} 1 1" if nprocs > 1 else "",
-        "atom_style cgms", "atom_modify map array sort 0 0", "comm_modify vel yes",
-        *read,
-        "neighbor 1.5e-5 bin", "neigh_modify every 1 delay 0 check yes",
-        pre,
-        f"pair_style cgms {pair_args}", f"pair_coeff * * {APPLE} {coefficients}",
-        f"fix fl all cgms/fluid dryness {dryness} {fix_args}",
-        "fix nve all nve", "fix e2 all enforce2d", f"timestep {dt}",
-        "compute c all property/atom " + " ".join(COLUMNS),
-        "compute nmin all reduce min c_c[1]", "compute nmax all reduce max c_c[1]",
-        "compute pmax all reduce max c_c[2]",
-        *[f"variable {name} equal {expr}" for name, expr in extra_thermo],
-        "thermo_style custom step atoms f_fl[1] f_fl[2] f_fl[3] f_fl[4] c_nmin c_nmax c_pmax "
-        + " ".join(f"v_{name}" for name, _ in extra_thermo),
-        "thermo_modify norm no lost error format float %.12g",
-        f"thermo {every}",
-        dumps,
-        f"run {steps}",
-        after,
-        "write_dump all custom end.dump id x y vx vy c_c[*] modify sort id format float %.17g",
-    ]
-    start = time.perf_counter()
-    proc = run_lmp(folder, "\n".join(lines) + "\n", nprocs=nprocs, check=False)
-    return Run(folder, proc, thermo, time.perf_counter() - start)
-
-
-def healthy(run, residual=1e-3, max_neighbours=6, decay=0.1):
-    """The conditions every case must meet (module docstring)."""
-    assert run.proc.returncode == 0, f"LAMMPS stopped: {run.error}\n{run.tail()}"
-    assert run.end is not None
-    th = run.thermo
-    assert len(th["step"]) >= 2, run.tail()
-    for name, values in list(th.items()) + list(run.end.items()):
-        assert np.all(np.isfinite(values)), f"non-finite {name}"
-    n = len(run.end["id"])
-    assert np.all(th["atoms"] == n), "beads were lost"
-    # no bead has left the tissue: recount the neighbours within each pair's cutoff
-    xy, s = run.xy, run.end["dryness"]
-    if n > 1:
-        pairs = cKDTree(xy).query_pairs(1.35 * MAT["r0"] * 1.000001, output_type="ndarray")
-        d = np.hypot(*(xy[pairs[:, 0]] - xy[pairs[:, 1]]).T)
-        pairs = pairs[d < pair_cutoff(s[pairs[:, 0]], s[pairs[:, 1]])]
-        degree = np.bincount(pairs.ravel(), minlength=n)
-        assert degree.min() >= 1, f"bead {int(run.end['id'][degree.argmin()])} has no neighbour"
-        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-        pieces = connected_components(graph, directed=False)[0]
-        assert pieces == 1, f"the tissue fell apart into {pieces} pieces"
-        np.testing.assert_array_equal(run.end["nneigh"], degree)
-    # no bead was ever captured by a neighbour shell it does not belong to
-    assert th["nmax"].max() <= max_neighbours, f"a bead had {th['nmax'].max():.0f} neighbours"
-    # the pressures balance the osmotic potential
-    assert th["residual"][-1] < residual, f"residual {th['residual'][-1]:.3g}"
-    assert th["residual"][-1] < 1e-2 * max(th["residual"][0], residual)
-    # bounded kinetic energy: no bead moves 1 % of a cell per step, and the motion decays
-    dt = float(run.proc.stdout.split("Time step     :")[1].split()[0])
-    assert th["speed"].max() < 0.01 * XREF / dt, f"speed {th['speed'].max():.3g} m/s"
-    if decay:
-        assert th["kinetic"][-1] <= decay * th["kinetic"].max()
-
-
-def assert_steady_perimeters(run, rtol=1e-2, xtol=3e-4, diameter=MAT["diameter"],
-                             **coefficients):
-    """Each bead's perimeter is l*_i (relative tolerance ``rtol``) and X/X0 the derived
-    value (``xtol``) (module docstring). The moisture converges fast; single perimeters
-    approach l* with the slow creep (2e-3 to 5e-3 off after 1e5 steps, 5e-4 after 5e5)."""
-    s = run.end["dryness"]
-    want = steady_perimeter(s, diameter, **coefficients)
-    worst = np.abs(run.end["perim"] / want - 1).max()
-    assert worst < rtol, f"a bead's perimeter is {worst:.3g} off l*"
-    x_pred = predicted_moisture(s, diameter, **coefficients)
-    assert run.moisture == pytest.approx(x_pred, rel=xtol)
-    assert run.last("moisture") == pytest.approx(run.moisture, rel=1e-8)
 
 
 # ------------------------------------------------------------------------------- fixtures
@@ -457,7 +270,7 @@ def squeezed(xy, gap):
 def test_bead_pair_started_at_half_the_spacing(tmp_path, calibration, s):
     """The pair's pressure jumps (7th power of the density), the turgor force pushes the
     two apart and every bead returns to l*; the pair's own distance then recovers only by
-    the slow LJ-driven creep of MODEL.md 8 (0.84 x_ref after 1e5 steps at s = 1, 0.91
+    the slow LJ-driven creep of doc/model.md (0.84 x_ref after 1e5 steps at s = 1, 0.91
     after 1e6, lattice 1.055), monotonically."""
     run = run_tissue(tmp_path, squeezed(calibration["xy"], 0.5), dryness=s,
                      extra_thermo=pair_distance_thermo())
@@ -524,7 +337,7 @@ def chain_distances(s, n):
     """Bead distances of a straight row of n beads with every bead at l* (eqns 10-11):
     an end bead (N = 1) has l = (d - d_p)(1 + 5 beta) / sqrt 3, an inner bead (N = 2)
     l = (d_left + d_right - 2 d_p)(2 + 4 beta) / (2 sqrt 3), so the distances alternate."""
-    lstar, b, dp = steady_perimeter(s), beta(s), MAT["pectin"]
+    lstar, b, dp = steady_perimeter(s), float(model.beta(MAT, s)), MAT["pectin"]
     end = dp + math.sqrt(3) * lstar / (1 + 5 * b)
     pair_sum = 2 * dp + 2 * math.sqrt(3) * lstar / (2 + 4 * b)
     d = [end]
@@ -751,7 +564,7 @@ def test_sensitivity_extremes(tmp_path, calibration, coefficients, label):
     """The paper's sensitivity extremes at s = 0.3, and k_T x 10 also fresh. l* depends on
     k_T / k_PA only (and the LJ forces): k_T x 10 and k_PA x 0.1 reach X/X0 = 0.1666 and
     0.1672 (default 0.2284) and a smaller tissue than the default; k_PA x 100 holds each
-    cell at l_d (0.2358). Fresh, k_T has no effect (paper, and MODEL.md 5): the same state
+    cell at l_d (0.2358). Fresh, k_T has no effect (paper, and doc/model.md): the same state
     as the default."""
     name, value = coefficients.split()
     k = dict(k_T=MAT["k_T"], k_PA=MAT["k_PA"])

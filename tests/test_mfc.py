@@ -336,8 +336,8 @@ def test_cgms_mfc_tiny_study(tmp_path):
         assert (folder / name).exists(), name
     rec = json.loads((folder / "level.s0.8.json").read_text())
     assert rec["converged"] and abs(rec["cell_area/A0"] - 0.8) < 0.02
-    from cgms import calibrate
-    ids, xy = calibrate.read_centroids(folder / "centroids.s0.8.txt")
+    from cgms import positions
+    ids, xy = positions.read_centroids(folder / "centroids.s0.8.txt")
     assert ids.tolist() == [1] and np.abs(xy).max() < 1e-6
     # an existing study is not overwritten; --resume reuses the finished levels
     again = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.spatial import ConvexHull
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
 
@@ -182,7 +183,7 @@ def test_bent_outline(s_over_a):
     # and, roughly, two parabolic segments of area (2/3) s W are cut off the rectangle
     assert m0["area"] - m["area"] == pytest.approx(4 / 3 * s * width, rel=0.01)
     # the convex hull misses the bend
-    assert mo.hull_measures(bent)["area"] > m0["area"] - 0.1 * (4 / 3 * s * width)
+    assert ConvexHull(bent).volume > m0["area"] - 0.1 * (4 / 3 * s * width)
     # vertical centre line: the top chord spans x = cx - a/4 .. cx + 3a/4, where the
     # parabola is s d1 d2 / (W/2)^2 above its vertex (d1 = a/4, d2 = 3a/4)
     assert m["centroid"] == pytest.approx((cx, cy), rel=1e-12)
@@ -263,7 +264,7 @@ def test_max_edge_too_small_raises():
         mo.outline(xy, max_edge=0)
     # a generous max_edge takes the convex hull
     m = mo.measures(xy, max_edge=10 * A)
-    assert m["area"] == pytest.approx(mo.hull_measures(xy)["area"], rel=1e-12)
+    assert m["area"] == pytest.approx(ConvexHull(xy).volume, rel=1e-12)
 
 
 def test_three_beads():
@@ -506,15 +507,11 @@ def test_read_dump_triclinic_time_units_gz(tmp_path, lattice_frames):
     np.testing.assert_allclose(f["columns"]["mf"], np.arange(1, 31) / 100, rtol=1e-15)
 
 
-def test_hull_measures_kept():
-    """cli.py still calls hull_measures: convex hull of a rectangle lattice."""
+def test_clean_lattice_raises_no_outline_warning():
     xy = tissue.hex_rectangle(10, 12, A)
-    h = mo.hull_measures(xy)
-    assert h["area"] > mo.measures(xy)["area"]
-    assert set(h) == {"area", "perimeter", "elongation"}
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        mo.measures(xy)  # a clean lattice raises no outline warning
+        mo.measures(xy)
 
 
 def test_side_bow_of_a_bent_rectangle():

@@ -5,6 +5,8 @@ import pytest
 
 from cgmstest import PLUGIN, XREF, header, make_tissue, physics, read_dump, run_lmp
 
+pytestmark = pytest.mark.lammps
+
 DUMP = ("dump d all custom {every} {name} id x y vx vy c_cg[*] c_proc\n"
         "dump_modify d format float %.17g sort id\n")
 CG = "compute cg all property/atom mf pressure area\ncompute proc all property/atom proc\n"

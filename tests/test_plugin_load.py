@@ -8,6 +8,8 @@ import pytest
 
 from cgmstest import LMP, PLUGIN, ROOT, lammps_env, new_lammps, run_lmp
 
+pytestmark = pytest.mark.lammps
+
 STYLES = ["pair style plugin cgms", "fix style plugin cgms/fluid"]
 
 

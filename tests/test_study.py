@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from cgms import cli, study, tissue
+from cgms import cli, folders, study, tissue
 from cgmstest import APPLE, MAT
 
 STEADY = dict(residual=1e-3, speed=1e-3, max_steps=200000)
@@ -16,6 +16,7 @@ def small_tissue(tmp_path):
     return tmp_path / "tissue.data"
 
 
+@pytest.mark.lammps
 def test_sweep_resumes_and_normalises(small_tissue, tmp_path, monkeypatch):
     out = tmp_path / "sweep"
     results = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False,
@@ -28,11 +29,16 @@ def test_sweep_resumes_and_normalises(small_tissue, tmp_path, monkeypatch):
     assert rows[1]["X/X0"] < 0.4 and rows[1]["A/A0"] < 0.9 and rows[1]["P/P0"] < 0.97
     # a second sweep reads the finished levels back and runs nothing
     monkeypatch.setattr(study, "relax", lambda *a, **k: pytest.fail("level run again"))
-    again = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False)
+    again = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False,
+                        steady=STEADY)
     assert np.array_equal(again[1]["xy"], results[1]["xy"])
     assert again[1]["moisture"] == results[1]["moisture"]
+    # ... but not for other options: those results would be mixed with these
+    with pytest.raises(folders.FolderError, match="another setup"):
+        study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.4), progress=False)
 
 
+@pytest.mark.lammps
 def test_target_moisture_lands_on_target(small_tissue, tmp_path):
     found = study.target_moisture(small_tissue, APPLE, 0.6, tmp_path / "t", xtol=2e-3,
                                   steady=STEADY)
@@ -44,13 +50,15 @@ def test_target_moisture_lands_on_target(small_tissue, tmp_path):
 
 def test_results_folder_is_never_reused(tmp_path):
     (tmp_path / "keep.txt").write_text("user data")
-    with pytest.raises(SystemExit, match="not empty"):
-        cli.new_folder(tmp_path, "study")
+    with pytest.raises(folders.FolderError, match="not empty"):
+        with folders.claim(tmp_path, "study"):
+            pass
     assert (tmp_path / "keep.txt").read_text() == "user data"
 
 
+@pytest.mark.lammps
 def test_quasistatic_state_is_a_steady_state_of_the_dynamics(small_tissue, tmp_path):
-    """MODEL.md 8: at steady state P = -Pi, so the geometry solves the force balance with
+    """doc/model.md: at steady state P = -Pi, so the geometry solves the force balance with
     the pressures fixed. The FIRE solution must be at rest under the full dynamics (mass
     transfer, damping, everything): started there, the beads must not move."""
     qs = study.relax(small_tissue, APPLE, 0.4, tmp_path / "qs", method="quasistatic")
@@ -81,6 +89,7 @@ def test_sensitivity_settings_scale_the_named_parameter():
     assert float(over.split()[1]) == 1.1 * 1.0311
 
 
+@pytest.mark.lammps
 def test_newton_level_matches_fire_and_logs_progress(small_tissue, tmp_path):
     """--method newton through the study: converged, the same X/X0 and shape as the FIRE
     solve, a dump for OVITO and a progress log with one line per iteration."""
@@ -102,6 +111,7 @@ def test_newton_level_matches_fire_and_logs_progress(small_tissue, tmp_path):
     assert capped["steps"] == 2 and not capped["converged"] and capped["fmax"] > 1e-13
 
 
+@pytest.mark.lammps
 def test_command_line_material_overrides(tmp_path, capsys):
     """--set replaces material parameters for every level (here the extension k_S, which
     moves the dried beads), is checked before anything runs, and a LAMMPS stop ends the

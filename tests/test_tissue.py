@@ -12,7 +12,7 @@ import pytest
 from scipy.spatial import cKDTree
 
 from cgmstest import APPLE, MAT, PLUGIN, ROOT, XREF, read_dump, run_lmp
-from cgms import tissue
+from cgms import cli, model, tissue
 
 DY = XREF * math.sqrt(3) / 2
 MM = 1e-3
@@ -294,6 +294,7 @@ def test_write_data_sections(tmp_path):
     assert not (tmp_path / "b.data").exists() and not (tmp_path / "d.data").exists()
 
 
+@pytest.mark.lammps
 def test_diameters_section_in_lammps(tmp_path):
     """The Diameters section read by fix property/atom (defined before the box exists)
     sets each bead's reference cell: mf0 = rho0 h pi D^2 / 4, l0p = turgid_ratio 6 b."""
@@ -321,40 +322,40 @@ def test_diameters_section_in_lammps(tmp_path):
     out = read_dump(tmp_path / "out.dump")
     assert len(out["id"]) == len(xy)
     np.testing.assert_allclose(out["c_p[3]"], d, rtol=1e-15)
-    area = math.pi * d ** 2 / 4
-    np.testing.assert_allclose(out["c_p[1]"], MAT["rho0"] * MAT["height"] * area, rtol=1e-12)
-    b = np.sqrt(2 * area / (3 * math.sqrt(3)))
-    np.testing.assert_allclose(out["c_p[2]"], MAT["turgid_ratio"] * 6 * b, rtol=1e-12)
+    cell = model.reference_cell(d, MAT["pectin"])
+    np.testing.assert_allclose(out["c_p[1]"], MAT["rho0"] * MAT["height"] * cell["A_ref"],
+                               rtol=1e-12)
+    np.testing.assert_allclose(out["c_p[2]"], MAT["turgid_ratio"] * cell["l_ref"], rtol=1e-12)
 
 
 # --------------------------------------------------------------------------- command line
 
 def test_cli_rect_disc_polygon(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    assert tissue.main(["rect", "1.5", "2.0"]) == 0
+    assert cli.tissue_main(["rect", "1.5", "2.0"]) == 0
     assert capsys.readouterr().out.startswith("149 beads -> tissue.data")
     assert "149 atoms" in (tmp_path / "tissue.data").read_text()
     before = (tmp_path / "tissue.data").read_text()
-    assert tissue.main(["rect", "1.5", "1.5"]) == 1  # exists: not replaced
+    assert cli.tissue_main(["rect", "1.5", "1.5"]) == 1  # exists: not replaced
     assert "--force" in capsys.readouterr().err
     assert (tmp_path / "tissue.data").read_text() == before
-    assert tissue.main(["rect", "1.5", "1.5", "--force", "--cv", "0.1", "--seed", "1"]) == 0
+    assert cli.tissue_main(["rect", "1.5", "1.5", "--force", "--cv", "0.1", "--seed", "1"]) == 0
     assert capsys.readouterr().out.startswith("105 beads")
     text = (tmp_path / "tissue.data").read_text()
     assert "105 atoms" in text and "\nDiameters\n" in text
-    assert tissue.main(["disc", "1", "--out", "disc.data"]) == 0
+    assert cli.tissue_main(["disc", "1", "--out", "disc.data"]) == 0
     assert capsys.readouterr().out.startswith(f"{len(tissue.disc(1e-3, XREF))} beads")
     (tmp_path / "tri.txt").write_text("# metres\n0 0\n1.5e-3 0\n\n0 1.5e-3\n")
-    assert tissue.main(["polygon", "tri.txt", "--out", "tri.data"]) == 0
+    assert cli.tissue_main(["polygon", "tri.txt", "--out", "tri.data"]) == 0
     n = len(tissue.polygon([[0, 0], [1.5e-3, 0], [0, 1.5e-3]], XREF))
     assert capsys.readouterr().out.startswith(f"{n} beads")
     (tmp_path / "bow.txt").write_text("0 0\n1e-3 1e-3\n1e-3 0\n0 1e-3\n")
-    assert tissue.main(["polygon", "bow.txt", "--out", "bow.data"]) == 1
+    assert cli.tissue_main(["polygon", "bow.txt", "--out", "bow.data"]) == 1
     assert "self-intersecting" in capsys.readouterr().err
     (tmp_path / "mm.txt").write_text("0 0\n1500 0\n0 1500\n")  # millimetres by mistake
-    assert tissue.main(["polygon", "mm.txt", "--out", "mm.data"]) == 1
+    assert cli.tissue_main(["polygon", "mm.txt", "--out", "mm.data"]) == 1
     assert "metres" in capsys.readouterr().err
-    assert tissue.main(["rect", "0", "1", "--out", "zero.data"]) == 2
+    assert cli.tissue_main(["rect", "0", "1", "--out", "zero.data"]) == 2
     assert not any((tmp_path / f).exists() for f in ("bow.data", "mm.data", "zero.data"))
 
 

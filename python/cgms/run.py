@@ -57,7 +57,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter.
     ``overrides``: "name value ..." material parameters that replace the file's.
 
-    ``method="quasistatic"`` solves for the steady state directly (MODEL.md 8): every bead
+    ``method="quasistatic"`` solves for the steady state directly (doc/model.md): every bead
     holds P = -Pi (fix cgms/fluid's ``minimize balance``) and FIRE minimisation moves the
     beads until the largest force on any bead is below ``ftol`` (N), with damping off;
     ``steady['max_steps']`` bounds the iterations. ``method="newton"`` sets up the same
@@ -130,7 +130,7 @@ def steady_state(lmp):
 def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, log=None):
     """Newton's method (:mod:`cgms.solve`) on a LAMMPS instance set up by
     :func:`tissue_script` with ``method="newton"``; writes the final state to ``dump``.
-    ``spacing``: the steady bead spacing (:func:`cgms.material.steady_spacing`); a tissue
+    ``spacing``: the steady bead spacing (:func:`cgms.model.steady_spacing`); a tissue
     that must swell to it is first scaled up about its centroid, which leaves Newton only
     the periphery's adjustment (a fresh tissue swells by 5 %: from the unscaled lattice
     Newton fails on 20 000 beads). A tissue that must shrink is not scaled down: that

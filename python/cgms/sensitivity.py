@@ -25,8 +25,8 @@ def setting_args(mat, parameter, factor):
 
 def run(data, material_file, out, levels=(1.0, 0.3), method="quasistatic", progress=True):
     """Every setting at every level; rows of the normalised morphology. A setting whose
-    quasi-static solve fails is followed with the dynamics instead, at dt = 5e-8 s (the row
-    says which)."""
+    quasi-static solve stops is followed with the dynamics instead
+    (:func:`cgms.study.relax_or_fallback`; the row says which)."""
     mat = material.read(material_file)
     rows = []
     for parameter, factors in FACTORS.items():
@@ -36,18 +36,14 @@ def run(data, material_file, out, levels=(1.0, 0.3), method="quasistatic", progr
             folder = Path(out) / f"{parameter}-{label}"
             results, failure = [], ""
             for s in levels:
-                kwargs = dict(pair_args=pair_args, overrides=overrides, method=method)
                 try:
-                    r = study.relax(data, material_file, s, folder, **kwargs)
-                except RuntimeError:
-                    # extreme settings crowd beads (8 neighbours): half the time step keeps
-                    # the damping inside its stability limit
-                    kwargs.update(method="dynamics", dt=5e-8, steady=dict(max_steps=4000000))
-                    try:
-                        r = study.relax(data, material_file, s, folder / "dynamics", **kwargs)
-                    except RuntimeError as err:
-                        failure = str(err).split("LAMMPS stopped: ")[-1].split(" (log")[0]
-                        break
+                    r, _ = study.relax_or_fallback(data, material_file, s, folder,
+                                                   fallback_unconverged=False,
+                                                   pair_args=pair_args, overrides=overrides,
+                                                   method=method)
+                except study.LammpsError as err:
+                    failure = err.reason
+                    break
                 results.append(r)
             if failure:
                 rows.append({"parameter": parameter, "factor": label, "failed": failure})

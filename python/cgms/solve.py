@@ -1,4 +1,4 @@
-"""Steady states by Newton's method on the quasi-static problem (MODEL.md 8).
+"""Steady states by Newton's method on the quasi-static problem (doc/model.md).
 
 At steady state every bead holds ``P = -Pi``. With the pressures held there, the CGMS
 forces are the gradient of a potential (``fix cgms/fluid`` reports it as its scalar and

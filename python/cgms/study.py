@@ -2,22 +2,51 @@
 their morphology, and the initial dryness that lands on a requested moisture.
 
 Each level is one LAMMPS run from the built tissue to steady state. Results go to a folder,
-one ``level.s<s>.json`` (+ ``.npy`` positions) per level, so an interrupted sweep resumes
-without redoing finished levels, and nothing existing is overwritten."""
+one ``level.s<s>.json`` (+ ``.npy`` positions) per level, each written whole or not at all,
+so an interrupted sweep resumes without redoing finished levels; ``sweep.json`` records what
+defines the results (tissue, material, method, options), and a resume with another setup
+is refused rather than mixed. Nothing existing is overwritten."""
 
-import json
+import hashlib
 import time
 from pathlib import Path
 
 import numpy as np
 
-from . import material as material_file, morphology, run
+from . import folders, material as material_file, model, morphology, run
 
 LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3)
+#: the fallback when the quasi-static solve stops or does not converge: the dynamics at
+#: half the paper's time step (extreme settings crowd beads to 8 neighbours; dt = 5e-8 s
+#: keeps the damping inside its stability limit)
+FALLBACK = dict(method="dynamics", dt=5e-8, steady=dict(max_steps=4000000))
+
+
+class LammpsError(RuntimeError):
+    """A LAMMPS run that stopped: ``reason`` is LAMMPS's whole ERROR message, ``log`` the
+    log file, ``dryness`` the level."""
+
+    def __init__(self, dryness, reason, log):
+        self.dryness, self.reason, self.log = dryness, reason, log
+        super().__init__(f"s = {dryness:g}: LAMMPS stopped: {reason} (log: {log})")
 
 
 def level_name(s):
-    return f"s{s:g}"
+    """``s<s>``: the shortest decimal that reads back as ``s`` when ``%g`` does not
+    (0.3 -> s0.3, 0.30000001 -> s0.30000001), so distinct levels never share a file."""
+    short = f"{s:g}"
+    return f"s{short}" if float(short) == s else f"s{float(s)!r}"
+
+
+def _lammps_reason(err, log):
+    """LAMMPS's whole ERROR line from the log (the Python module cuts it at about 100
+    characters), else the exception's text."""
+    try:
+        lines = Path(log).read_text(errors="replace").splitlines()
+    except OSError:
+        lines = []
+    errors = [line.strip() for line in lines if line.startswith("ERROR")]
+    return errors[-1] if errors else str(err).strip()
 
 
 def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, pair_args="",
@@ -45,17 +74,14 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
             # (doc/performance.md)
             with open(out / f"newton.{name}.log", "w") as fh:
                 solver = run.solve_newton(lmp, dump=dump, max_iterations=min(60, max_steps),
-                                          spacing=material_file.steady_spacing(mat, dryness),
+                                          spacing=model.steady_spacing(mat, dryness),
                                           log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
     except Exception as err:
-        hint = (" The quasi-static solve (FIRE) can stall or diverge where the potential is "
-                "not convex (large dried tissues: doc/validation.md); try --method newton "
-                "or dynamics." if method == "quasistatic" else "")
-        raise RuntimeError(f"s = {dryness:g}: LAMMPS stopped: {err} (log: "
-                           f"{out / f'log.{name}.lammps'}).{hint}") from err
-    finally:
+        log = out / f"log.{name}.lammps"
         lmp.close()
+        raise LammpsError(dryness, _lammps_reason(err, log), log) from err
+    lmp.close()
     state.update(dryness=dryness, seconds=time.perf_counter() - start, method=method,
                  converged=bool(state["steps"] < max_steps))
     if solver:
@@ -65,22 +91,52 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
     return state
 
 
+def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, **kwargs):
+    """:func:`relax` with the quasi-static solve (FIRE, or the given ``method``), and
+    where LAMMPS stops it (or, with ``fallback_unconverged``, it reaches its iteration
+    limit) the dynamics of :data:`FALLBACK` in ``out/dynamics``. Returns
+    ``(result, note)``: ``note`` says why the fallback ran ("" if it did not). A stop of the
+    fallback raises :class:`LammpsError`."""
+    kwargs = dict(kwargs)
+    kwargs.setdefault("method", "quasistatic")
+    note = ""
+    try:
+        result = relax(data, material, dryness, out, **kwargs)
+        if result["converged"] or not fallback_unconverged:
+            return result, note
+        note = "FIRE reached its iteration limit"
+    except LammpsError as err:
+        note = err.reason
+    kwargs.update(FALLBACK)
+    return relax(data, material, dryness, Path(out) / "dynamics", **kwargs), note
+
+
+def sha256(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
 def sweep(data, material, out, levels=LEVELS, progress=True, **kwargs):
     """:func:`relax` at every level, resuming: a level whose result file exists in ``out``
-    is read back, not run again. Returns the results in level order."""
+    is read back, not run again. ``out/sweep.json`` records the tissue, the material and
+    the options (``kwargs``); a folder with another record is refused (FolderError).
+    Returns the results in level order."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    setup = dict(data_sha256=sha256(data), material_sha256=sha256(material_file.find(material)),
+                 **{k: kwargs[k] for k in sorted(kwargs)})
+    folders.same_setup(out / "sweep.json", setup)
     results = []
     bar = _progress(levels, progress)
     for s in bar:
         done = out / f"level.{level_name(s)}.json"
+        positions = out / f"level.{level_name(s)}.npy"
         if done.exists():
-            result = json.loads(done.read_text())
-            result["xy"] = np.load(out / f"level.{level_name(s)}.npy")
+            result = folders.read_json(done)
+            result["xy"] = folders.read_npy(positions)
         else:
             result = relax(data, material, s, out, **kwargs)
-            np.save(out / f"level.{level_name(s)}.npy", result["xy"])
-            done.write_text(json.dumps({k: v for k, v in result.items() if k != "xy"}, indent=1))
+            folders.write_npy(positions, result["xy"])    # first: the .json says it is done
+            folders.write_json(done, {k: v for k, v in result.items() if k != "xy"})
         results.append(result)
         if hasattr(bar, "set_postfix"):
             bar.set_postfix(s=s, moisture=f"{result['moisture']:.3f}", steps=result["steps"])
@@ -104,11 +160,17 @@ def table(results):
 
 
 def write_csv(rows, path):
+    """The rows as a CSV table at a new ``path`` (FileExistsError if it is there), written
+    whole or not at all."""
     import csv
-    with open(path, "x", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    import io
+    if Path(path).exists():
+        raise FileExistsError(f"{path} exists")
+    text = io.StringIO()
+    writer = csv.DictWriter(text, fieldnames=list(rows[0]))
+    writer.writeheader()
+    writer.writerows(rows)
+    folders.write_atomic(path, lambda fh: fh.write(text.getvalue().encode()))
 
 
 def target_moisture(data, material, target, out, xtol=1e-3, **kwargs):
@@ -129,11 +191,16 @@ def target_moisture(data, material, target, out, xtol=1e-3, **kwargs):
             evaluations.append((s, result["moisture"]))
         return reached[s] - target
 
-    lo, hi = target, 1.0
-    if miss(lo) > 0:
-        raise ValueError(f"a tissue started at s = {lo} already ends above X/X0 = {target}")
+    # X/X0 reached grows with s but is not below s everywhere (0.85 reaches 0.87):
+    # step the lower end down until it lands below the target
+    lo, hi = min(target, 1.0), 1.0
+    while miss(lo) > 0:
+        if lo < 0.02:
+            raise ValueError(f"even a tissue started at s = {lo:g} ends above X/X0 = {target}")
+        lo = max(0.5 * lo, lo * target / reached[round(lo, 6)] - 0.02)
     if miss(hi) < 0:
-        raise ValueError(f"even the fresh tissue ends below X/X0 = {target}")
+        raise ValueError(f"even the fresh tissue (s = 1) ends below X/X0 = {target} (it "
+                         f"reaches {reached[1.0]:.4f})")
     s = brentq(miss, lo, hi, xtol=xtol)
     return dict(target=target, initial=s, evaluations=evaluations)
 

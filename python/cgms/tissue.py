@@ -7,8 +7,8 @@ Builders (positions in metres, returned as (n, 2) arrays):
   reproduces the bead counts of the paper's six rectangular tissues (see ``doc/tissues.md``);
 * :func:`disc`, :func:`polygon` -- the lattice points inside a disc or a closed outline;
 * :func:`cell_diameters` -- per-bead cell diameters for a heterogeneous tissue;
-* :func:`write_data` -- a LAMMPS data file for ``atom_style cgms`` (optionally with a
-  ``Diameters`` section read through ``fix property/atom``).
+* :func:`write_data` (:mod:`cgms.positions`) -- a LAMMPS data file for ``atom_style cgms``
+  (optionally with a ``Diameters`` section read through ``fix property/atom``).
 
 Lattice: neighbouring beads ``spacing`` apart along a row, rows ``spacing*sqrt(3)/2``
 apart, every other row shifted by half a spacing. ``rows_along="x"`` lays the rows
@@ -17,16 +17,15 @@ horizontally (as :func:`hex_rectangle` always did); ``rows_along="y"`` turns the
 that gives the paper's tissues their counts with the paper's ``W x H`` read as width x
 height and its elongation (vertical / horizontal axis) as major / minor axis.
 
-Command line: ``python3 -m cgms.tissue --help``.
+Command line: ``python3 -m cgms.tissue --help`` (:func:`cgms.cli.tissue_main`).
 """
 
-import argparse
 import math
-import os
 import sys
-from pathlib import Path
 
 import numpy as np
+
+from .positions import write_data  # noqa: F401 - the data-file writer, kept here for callers
 
 ROW_PITCH = math.sqrt(3) / 2   # row distance / bead spacing
 _TOL = 1e-9                    # relative tolerance (of the spacing) for points on an outline
@@ -104,8 +103,8 @@ def rectangle_shape(width, height, spacing, rule="paper", rows_along="y", inset=
     """Rows and beads per row of :func:`rectangle`: a dict with ``nrows``, ``long`` (beads in
     the even rows, the first row included), ``short`` (beads in the odd rows) and ``n``."""
     inset = float(inset)
-    if not math.isfinite(inset):
-        raise ValueError(f"inset must be a finite number, got {inset!r}")
+    if not (math.isfinite(inset) and inset >= 0):
+        raise ValueError(f"inset must be a finite number >= 0, got {inset!r}")
     w = _positive("width", width) - 2 * inset
     h = _positive("height", height) - 2 * inset
     a = _positive("spacing", spacing)
@@ -393,181 +392,22 @@ def cell_diameters(n, mean, cv, seed=None, *, dist="lognormal", lower=0.5, upper
     return np.clip(d, lower * mean, None if upper is None else upper * mean)
 
 
-# --------------------------------------------------------------------------- data file
-
-def write_data(path, xy, margin, title="CGMS tissue", diameters=None, overwrite=False):
-    """Write positions ``xy`` (n, 2) in metres as a LAMMPS data file for atom_style cgms
-    (Atoms columns: id type x y z). The box leaves ``margin`` metres around the tissue
-    (z from -margin to margin). Returns the number of beads.
-
-    ``diameters`` (n values, m): also write a ``Diameters`` section (lines ``id value``),
-    read into a per-atom property by::
-
-        fix diam all property/atom d_diameter            # before read_data
-        read_data tissue.data fix diam NULL Diameters
-        variable d atom d_diameter
-        fix fluid all cgms/fluid diameter v_d ...
-
-    An existing file is never replaced unless ``overwrite=True`` (FileExistsError)."""
-    xy = np.asarray(xy, dtype=float)
-    if xy.ndim != 2 or xy.shape[1] != 2 or len(xy) == 0:
-        raise ValueError(f"xy must be a non-empty (n, 2) array, got shape {xy.shape}")
-    if not np.all(np.isfinite(xy)):
-        raise ValueError("xy holds non-finite positions")
-    margin = _positive("margin", margin)
-    if diameters is not None:
-        diameters = np.asarray(diameters, dtype=float).ravel()
-        if len(diameters) != len(xy):
-            raise ValueError(f"{len(diameters)} diameters for {len(xy)} beads")
-        if not np.all(np.isfinite(diameters) & (diameters > 0)):
-            raise ValueError("diameters must be positive finite numbers")
-    lo = xy.min(axis=0) - margin
-    hi = xy.max(axis=0) + margin
-    lines = [
-        " ".join(str(title).split()) or "CGMS tissue",
-        "",
-        f"{len(xy)} atoms",
-        "1 atom types",
-        "",
-        f"{lo[0]:.10e} {hi[0]:.10e} xlo xhi",
-        f"{lo[1]:.10e} {hi[1]:.10e} ylo yhi",
-        f"{-margin:.10e} {margin:.10e} zlo zhi",
-        "",
-        "Atoms # cgms",
-        "",
-    ]
-    lines += [f"{k + 1} 1 {x:.12e} {y:.12e} 0.0" for k, (x, y) in enumerate(xy)]
-    if diameters is not None:
-        lines += ["", "Diameters", ""]
-        lines += [f"{k + 1} {d:.17g}" for k, d in enumerate(diameters)]
-    text = "\n".join(lines) + "\n"
-    try:
-        with open(path, "w" if overwrite else "x") as fh:
-            fh.write(text)
-    except FileExistsError:
-        raise FileExistsError(f"{os.fspath(path)} exists; pass overwrite=True to replace it") \
-            from None
-    return len(xy)
+def clipped_mean(cv, dist="lognormal", lower=0.5, upper=None, points=20001):
+    """Mean of the diameters :func:`cell_diameters` draws, as a multiple of the requested
+    mean: the clipping to ``[lower, upper]`` moves it away from 1 when ``cv`` is large
+    (lognormal cv = 5: 0.77). Computed on a fine grid of the distribution's quantiles."""
+    from scipy import stats
+    q = (np.arange(points) + 0.5) / points
+    if cv == 0:
+        return 1.0
+    if dist == "lognormal":
+        s2 = math.log1p(cv * cv)
+        d = stats.lognorm.ppf(q, math.sqrt(s2), scale=math.exp(-s2 / 2))
+    else:
+        d = stats.norm.ppf(q, 1.0, cv)
+    return float(np.clip(d, lower, upper).mean())
 
 
-# --------------------------------------------------------------------------- command line
-
-def read_vertices(path):
-    """Polygon vertices from a text file: one ``x y`` pair (metres) per line; blank lines
-    and ``#`` comments are ignored."""
-    rows = []
-    for lineno, raw in enumerate(Path(path).read_text().splitlines(), 1):
-        words = raw.split("#", 1)[0].replace(",", " ").split()
-        if not words:
-            continue
-        if len(words) != 2:
-            raise ValueError(f"{path} line {lineno}: expected 'x y', got {raw.strip()!r}")
-        try:
-            rows.append([float(words[0]), float(words[1])])
-        except ValueError:
-            raise ValueError(f"{path} line {lineno}: not numbers: {raw.strip()!r}") from None
-    return np.array(rows).reshape(-1, 2)
-
-
-MAX_CLI_BEADS = 5e6   # a polygon file larger than this is probably not in metres
-
-
-def _parser():
-    common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--material", default="apple",
-                        help="material file or name; sets the lattice spacing x_ref and the "
-                             "mean cell diameter (default apple)")
-    common.add_argument("--spacing", type=float, metavar="UM",
-                        help="lattice spacing in micrometres (default: the material's x_ref)")
-    common.add_argument("--rows-along", choices=("x", "y"), default="y",
-                        help="direction of the lattice rows (default y, as in the paper)")
-    common.add_argument("--out", default="tissue.data", help="data file (default tissue.data)")
-    common.add_argument("--force", action="store_true", help="replace an existing --out file")
-    common.add_argument("--margin", type=float, default=3.0,
-                        help="box margin around the tissue, in lattice spacings (default 3)")
-    common.add_argument("--cv", type=float, default=0.0,
-                        help="coefficient of variation of the cell diameter; > 0 writes a "
-                             "Diameters section (default 0: homogeneous tissue)")
-    common.add_argument("--seed", type=int, default=0, help="random seed for --cv (default 0)")
-    common.add_argument("--dist", choices=("lognormal", "normal"), default="lognormal",
-                        help="distribution of the diameters (default lognormal)")
-    p = argparse.ArgumentParser(
-        prog="python3 -m cgms.tissue",
-        description="Build a CGMS tissue (hexagonal lattice of beads) and write it as a LAMMPS "
-                    "data file for atom_style cgms. Sizes W, H, R are in MILLIMETRES; polygon "
-                    "vertex files are in METRES.")
-    sub = p.add_subparsers(dest="shape", required=True)
-    r = sub.add_parser("rect", parents=[common], help="W x H rectangle (mm)",
-                       description="Lattice filling a W x H mm rectangle (W along x, H along y).")
-    r.add_argument("width", type=float, metavar="W", help="width in mm (along x)")
-    r.add_argument("height", type=float, metavar="H", help="height in mm (along y)")
-    r.add_argument("--rule", choices=RECTANGLE_RULES, default="paper",
-                   help="fill rule (default paper: reproduces the paper's bead counts)")
-    r.add_argument("--inset", type=float, default=0.0,
-                   help="shrink the rectangle by this many mm on every side (e.g. D/2 = 0.075 "
-                        "to read W x H as the cell outline)")
-    d = sub.add_parser("disc", parents=[common], help="disc of radius R (mm)",
-                       description="Lattice points inside a disc of radius R mm.")
-    d.add_argument("radius", type=float, metavar="R", help="radius in mm")
-    g = sub.add_parser("polygon", parents=[common], help="closed polygon from a file (m)",
-                       description="Lattice points inside a closed polygon read from a text "
-                                   "file: one 'x y' vertex per line, in metres.")
-    g.add_argument("file", help="vertex file (x y per line, metres; '#' comments)")
-    return p
-
-
-def main(argv=None):
-    """``python3 -m cgms.tissue rect W H | disc R | polygon FILE [options]``: build the
-    tissue, write the data file and print the bead count. Returns an exit status."""
-    args = _parser().parse_args(argv)
-    from . import material
-    for name in ("width", "height", "radius", "spacing"):
-        value = getattr(args, name, None)
-        if value is not None and not (math.isfinite(value) and value > 0):
-            print(f"cgms.tissue: {name} must be positive, got {value:g}", file=sys.stderr)
-            return 2
-    try:
-        mat = material.read(args.material)
-        spacing = args.spacing * 1e-6 if args.spacing else mat["x_ref"]
-        if args.shape == "polygon":
-            vertices = read_vertices(args.file)
-            if vertices.size:
-                box = np.ptp(vertices, axis=0)
-                estimate = box[0] * box[1] / (ROW_PITCH * spacing * spacing)
-                if estimate > MAX_CLI_BEADS:
-                    raise ValueError(f"the outline in {args.file} spans {box[0]:g} x {box[1]:g} m, "
-                                     f"room for up to {estimate:.3g} beads (limit "
-                                     f"{MAX_CLI_BEADS:g}); vertices must be in metres")
-        if args.shape == "rect":
-            xy = rectangle(args.width * 1e-3, args.height * 1e-3, spacing, rule=args.rule,
-                           rows_along=args.rows_along, inset=args.inset * 1e-3)
-            what = f"rectangle {args.width:g} x {args.height:g} mm, rule {args.rule}"
-        elif args.shape == "disc":
-            xy = disc(args.radius * 1e-3, spacing, rows_along=args.rows_along)
-            what = f"disc of radius {args.radius:g} mm"
-        else:
-            xy = polygon(vertices, spacing, rows_along=args.rows_along)
-            what = f"polygon {args.file}"
-        diam = None
-        if args.cv:
-            diam = cell_diameters(len(xy), mat["diameter"], args.cv, args.seed, dist=args.dist)
-        n = write_data(args.out, xy, args.margin * spacing, title=f"CGMS tissue: {what}",
-                       diameters=diam, overwrite=args.force)
-    except FileExistsError:
-        print(f"cgms.tissue: {args.out} exists; use --force to replace it or choose another "
-              "--out", file=sys.stderr)
-        return 1
-    except (ValueError, OSError) as e:
-        print(f"cgms.tissue: {e}", file=sys.stderr)
-        return 1
-    extra = ""
-    if diam is not None:
-        extra = (f"; Diameters section: mean {diam.mean() * 1e6:.2f} um, cv "
-                 f"{diam.std() / diam.mean():.3f} ({args.dist}, seed {args.seed})")
-    print(f"{n} beads -> {args.out} ({what}, spacing {spacing * 1e6:.2f} um, rows along "
-          f"{args.rows_along}{extra})")
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
+if __name__ == "__main__":   # python3 -m cgms.tissue: the builder's command line
+    from .cli import tissue_main
+    sys.exit(tissue_main())

@@ -1,0 +1,125 @@
+"""Results folders: a new one never overwrites anything, a resumed one must hold the same
+study, one command at a time writes in a folder (a lock), and every result file appears
+whole or not at all (written to a temporary file, then renamed)."""
+
+import fcntl
+import json
+import os
+import tempfile
+from contextlib import contextmanager
+from datetime import datetime
+from pathlib import Path
+
+import numpy as np
+
+LOCK = ".cgms.lock"
+
+
+class FolderError(ValueError):
+    """A results folder that cannot be used as asked (the message says why)."""
+
+
+def default_folder(kind):
+    return Path("results") / kind / datetime.now().strftime("%Y%m%d-%H%M%S")
+
+
+def _lock(folder):
+    """An exclusive lock on ``folder`` held while the returned file stays open."""
+    fh = open(folder / LOCK, "a")
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        fh.close()
+        raise FolderError(f"{folder} is in use by another cgms command; wait for it to end "
+                          "or choose another --out") from None
+    return fh
+
+
+@contextmanager
+def claim(out, kind, resume=False):
+    """The results folder of one command, locked while the ``with`` block runs.
+
+    New (``resume`` false): ``out`` (default ``results/<kind>/<date-time>``) is created; it
+    may exist only as an empty folder. Resumed: ``out`` must be given and be a folder.
+    FolderError says what is wrong; nothing is created then."""
+    if resume and not out:
+        raise FolderError("--resume continues the study in --out: give the folder with --out")
+    out = Path(out) if out else default_folder(kind)
+    if out.exists() and not out.is_dir():
+        raise FolderError(f"--out {out} is a file, not a folder")
+    if resume and not out.exists():
+        raise FolderError(f"--resume: {out} does not exist (nothing to continue); leave out "
+                          "--resume to start a new study there")
+    if not resume and out.exists() and any(p.name != LOCK for p in out.iterdir()):
+        raise FolderError(f"{out} exists and is not empty; choose another --out "
+                          "(or --resume to continue an interrupted study there)")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+        fh = _lock(out)
+    except OSError as err:
+        raise FolderError(f"cannot write in {out}: {err.strerror or err}") from None
+    try:
+        if not resume and any(p.name != LOCK for p in out.iterdir()):   # lost a race
+            raise FolderError(f"{out} is being filled by another cgms command; choose "
+                              "another --out")
+        yield out
+    finally:
+        fh.close()
+
+
+def write_atomic(path, write):
+    """Create ``path`` whole or not at all: ``write(file object)`` fills a temporary file
+    beside it, which is then renamed to ``path``."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            write(fh)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def write_json(path, obj):
+    return write_atomic(path, lambda fh: fh.write((json.dumps(obj, indent=1) + "\n").encode()))
+
+
+def write_npy(path, array):
+    return write_atomic(path, lambda fh: np.save(fh, array))
+
+
+def read_json(path):
+    """A JSON result file; ValueError naming the file if it is not whole."""
+    try:
+        return json.loads(Path(path).read_text())
+    except (ValueError, UnicodeDecodeError) as err:
+        raise ValueError(f"{path} is damaged ({err}); delete it to recompute what it "
+                         "held") from None
+
+
+def read_npy(path):
+    try:
+        return np.load(path)
+    except (ValueError, OSError, EOFError) as err:
+        raise ValueError(f"{path} is damaged or missing ({err}); delete it and its .json "
+                         "to recompute that level") from None
+
+
+def same_setup(path, setup):
+    """Record ``setup`` (a JSON-able dict of what defines the results in a folder) in
+    ``path``, or, if it is there, check that it is the same: FolderError naming the
+    entries that differ (results of another setup must never be mixed)."""
+    setup = json.loads(json.dumps(setup))   # as JSON will read it back
+    if Path(path).exists():
+        old = read_json(path)
+        if old != setup:
+            diff = sorted(k for k in set(old) | set(setup) if old.get(k) != setup.get(k))
+            shown = "; ".join(f"{k}: {old.get(k)!r} there, {setup.get(k)!r} now" for k in diff)
+            raise FolderError(f"{Path(path).parent} holds results of another setup ({shown}); "
+                              "resume with the same options or choose another --out")
+    else:
+        write_json(path, setup)

@@ -1,0 +1,114 @@
+"""The model's formulas, written once (doc/model.md): the reference cell, the periphery
+factor beta(s), the steady state of a bead (perimeter, spacing, density, moisture) and the
+time-step limits of the damping and the cell-shape stiffness.
+
+Every function takes a material dict (:func:`cgms.material.read`) and plain numbers or
+NumPy arrays. ``tests/reference.py`` repeats the force and update formulas on purpose, as
+an independent oracle; everything else in the package and the tests uses this module."""
+
+import math
+
+import numpy as np
+
+
+def reference_cell(diameter, pectin):
+    """The reference cell of a bead of cell ``diameter`` (doc/model.md): the regular hexagon
+    of the cell's area ``A_ref`` (side ``b_ref``, perimeter ``l_ref``) and the lattice
+    spacing ``x_ref`` = sqrt(3) b_ref + pectin. Works on arrays of diameters."""
+    area = np.pi * np.asarray(diameter, float) ** 2 / 4
+    side = np.sqrt(2 * area / (3 * math.sqrt(3)))
+    return dict(A_ref=area, b_ref=side, l_ref=6 * side, x_ref=math.sqrt(3) * side + pectin)
+
+
+def beta(mat, s):
+    """Periphery factor beta(s) = beta_a + beta_b ln s."""
+    return mat["beta_a"] + mat["beta_b"] * np.log(s)
+
+
+def lj_radius(mat, s):
+    """LJ radius r(s) = r0 (1 + lj_slope ln s) of a pair of mean dryness ``s``."""
+    return mat["r0"] * (1 + mat["lj_slope"] * np.log(s))
+
+
+def hexagon_area(perimeter):
+    """Area of the regular hexagon of ``perimeter``."""
+    return 1.5 * math.sqrt(3) * (np.asarray(perimeter, float) / 6) ** 2
+
+
+def fresh_perimeter(mat, diameter=None):
+    """l0' = turgid_ratio l_ref of a cell of ``diameter`` (default the material's)."""
+    d = mat["diameter"] if diameter is None else diameter
+    return mat["turgid_ratio"] * reference_cell(d, mat["pectin"])["l_ref"]
+
+
+def equilibrium_perimeter(mat, s, diameter=None):
+    """l_d = l0' [1 - (a/b)(1 - s)], the perimeter that the moisture level prescribes
+    (eqn 9)."""
+    return fresh_perimeter(mat, diameter) * (1 - mat["perim_a"] / mat["perim_b"]
+                                             * (1 - np.asarray(s, float)))
+
+
+def steady_perimeter(mat, s, diameter=None, k_T=None, k_PA=None):
+    """A bead's perimeter at steady state: with P = -s Pi_f (mass balance, eqn 7) every
+    bead's pair coefficient vanishes, so l* = l_d - (k_T / k_PA)(P_f + s Pi_f), whatever
+    the shape of the tissue (doc/validation.md, hard cases). ``k_T``, ``k_PA`` replace the
+    material's."""
+    k_T = mat["k_T"] if k_T is None else k_T
+    k_PA = mat["k_PA"] if k_PA is None else k_PA
+    s = np.asarray(s, float)
+    return equilibrium_perimeter(mat, s, diameter) - k_T / k_PA * (mat["P_f"] + s * mat["Pi_f"])
+
+
+def steady_spacing(mat, s):
+    """Centre distance of two inner beads (6 neighbours) of a uniform tissue at steady
+    state at dryness ``s``: an inner bead's perimeter is l = 2 sqrt(3) (x - d_p)."""
+    return float(steady_perimeter(mat, s)) / (2 * math.sqrt(3)) + mat["pectin"]
+
+
+def balance_density(mat, s):
+    """Fluid density at which the Tait pressure P = s P_f + K ((rho / (s rho0))^7 - 1)
+    balances the osmotic potential: P = -s Pi_f."""
+    s = np.asarray(s, float)
+    return s * mat["rho0"] * (1 - s * (mat["Pi_f"] + mat["P_f"]) / mat["K"]) ** (1 / 7)
+
+
+def steady_moisture(mat, s, diameter=None, **coefficients):
+    """X/X0 of a tissue at steady state whose beads have dryness ``s`` (a number or one
+    per bead) and cell ``diameter``: sum rho h A(l*) over sum of the fresh fluid masses."""
+    d = mat["diameter"] if diameter is None else diameter
+    s = np.broadcast_to(np.asarray(s, float), np.shape(d) or np.shape(s))
+    mf = balance_density(mat, s) * mat["height"] * hexagon_area(
+        steady_perimeter(mat, s, d, **coefficients))
+    mf0 = mat["rho0"] * mat["height"] * reference_cell(np.broadcast_to(d, s.shape),
+                                                       mat["pectin"])["A_ref"]
+    return float(np.sum(mf) / np.sum(mf0))
+
+
+def fresh_mass(mat, diameter=None):
+    """The default inertial mass of a bead: fluid and solid mass of the fresh cell,
+    (1 + solid_ratio) rho0 h A_ref."""
+    d = mat["diameter"] if diameter is None else diameter
+    area = reference_cell(d, mat["pectin"])["A_ref"]
+    return (1 + mat["solid_ratio"]) * mat["rho0"] * mat["height"] * area
+
+
+def damping_dt_limit(mass, nneigh, k_d):
+    """Stability limit of the relative-velocity damping: 2 m / (1.5 N k_d)."""
+    return 2 * np.asarray(mass, float) / (1.5 * np.asarray(nneigh, float) * k_d)
+
+
+def shape_dt_limit(mass, nneigh, k_S):
+    """Stability limit of the cell-shape stiffness k_S (about 2 k_S per pair):
+    sqrt(m / (2 k_S N))."""
+    return np.sqrt(np.asarray(mass, float) / (2 * k_S * np.asarray(nneigh, float)))
+
+
+def turgor_dt_limit(mat, mass, nneigh, side, rho, s):
+    """Stability limit 2 / omega of the turgor-density coupling (doc/fix_cgms_fluid.rst):
+    omega^2 = 56 k_T K (rho / (s rho0))^7 / (m sum_k x_ik), sum_k x_ik of a bead with N
+    neighbours and cell side b."""
+    nn = np.asarray(nneigh, float)
+    sum_gap = math.sqrt(3) * nn * 6 * side / (nn + beta(mat, s) * np.maximum(0, 6 - nn))
+    omega = np.sqrt(56 * mat["k_T"] * mat["K"] * (rho / (s * mat["rho0"])) ** 7
+                    / (mass * sum_gap))
+    return 2 / omega

@@ -1,0 +1,320 @@
+"""The command line and the Python side never crash, never lose or mix results, and name
+the real cause (issue 12, sections 2 and 4-6; doc/errors.md, "Command line and Python").
+
+Most cases stop before LAMMPS runs. Those that need finished levels use cgmstest's
+stand-in for study.relax (the ``fake`` fixture), so the folder logic is tested without
+LAMMPS."""
+
+import errno
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from cgms import folders, material, study, tissue
+from cgmstest import APPLE, ROOT, XREF, reached, run_cli
+
+SMALL = ["--width", "0.6", "--height", "0.6"]
+
+
+def listing(folder):
+    return sorted(str(p.relative_to(folder)) for p in folder.rglob("*"))
+
+
+# --------------------------------------------------------------------------- section 2
+
+def test_resume_with_other_options_is_refused(fake, capsys):
+    """A study folder records what defines it; a resume with another --set, --method,
+    --width, --cv or material refuses and leaves the finished levels alone."""
+    base = ["study", *SMALL, "--dryness", "1,0.3", "--out", "d"]
+    assert run_cli(capsys, *base, "--set", "k_T 1e-10")[0] == 0
+    before = (fake / "d/tissue/level.s0.3.json").read_text()
+    for other in (["--set", "k_T 5e-10"], ["--set", "k_T 1e-10", "--method", "dynamics"],
+                  ["--set", "k_T 1e-10", "--width", "0.9"],
+                  ["--set", "k_T 1e-10", "--cv", "0.05"]):
+        status, err, _ = run_cli(capsys, *base, "--resume", *other)
+        assert status == 1 and ("another setup" in err or "another tissue" in err), (other, err)
+    assert (fake / "d/tissue/level.s0.3.json").read_text() == before
+    status, err, _ = run_cli(capsys, *base, "--resume", "--set", "k_T 1e-10")
+    assert status == 0, err
+
+
+def test_levels_that_print_alike_are_kept_apart(fake, capsys):
+    assert study.level_name(0.3) == "s0.3" and study.level_name(1.0) == "s1"
+    assert study.level_name(0.3) != study.level_name(0.30000001)
+    assert run_cli(capsys, "study", *SMALL, "--dryness", "0.3,0.30000001", "--out", "d")[0] == 0
+    a = json.loads((fake / "d/tissue/level.s0.3.json").read_text())
+    b = json.loads((fake / "d/tissue/level.s0.30000001.json").read_text())
+    assert a["dryness"] == 0.3 and b["dryness"] == 0.30000001
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "0.3,0.3", "--out", "e")
+    assert status == 2 and "given twice" in err and not (fake / "e").exists()
+
+
+@pytest.mark.parametrize("target", [0.85, 0.95, 1.0])
+def test_target_above_the_start_dryness_is_bracketed(fake, target):
+    """X/X0 reached is above s for s above about 0.8 (CGMS: s = 0.85 reaches 0.87): the
+    search must still find the start."""
+    found = study.target_moisture(_data(fake), APPLE, target, fake / "t", xtol=1e-6)
+    assert reached(found["initial"]) == pytest.approx(target, abs=1e-5)
+
+
+def _data(folder):
+    path = folder / "tissue.data"
+    if not path.exists():
+        tissue.write_data(path, tissue.rectangle(0.6e-3, 0.6e-3, XREF), 3 * XREF)
+    return path
+
+
+def test_target_beyond_the_fresh_tissue_says_what_it_reaches(fake):
+    with pytest.raises(ValueError, match=r"ends below X/X0 = 1.2 \(it reaches 1.1000\)"):
+        study.target_moisture(_data(fake), APPLE, 1.2, fake / "t")
+
+
+# --------------------------------------------------------------------------- section 4
+
+def test_out_that_is_a_file(fake, capsys):
+    (fake / "f").write_text("mine")
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--out", "f")
+    assert status == 1 and "--out f is a file, not a folder" in err
+    assert (fake / "f").read_text() == "mine"
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--out", "f/sub")
+    assert status == 1 and "cannot write in f/sub: Not a directory" in err
+
+
+def test_read_only_or_full_disk_says_so(fake, capsys, monkeypatch):
+    """Read-only file system at the folder, full disk at a result: one line each, no
+    traceback, and no level file cut short (results are written whole or not at all)."""
+    real_mkdir = type(fake).mkdir
+
+    def read_only(self, *a, **k):
+        if self.name == "ro":
+            raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(self))
+        return real_mkdir(self, *a, **k)
+
+    monkeypatch.setattr(type(fake), "mkdir", read_only)
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--out", "ro")
+    assert status == 1 and "cannot write in ro: Read-only file system" in err
+
+    def full(fh):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    real_write = folders.write_atomic
+    monkeypatch.setattr(folders, "write_atomic",
+                        lambda path, write: real_write(path, full if path.suffix == ".json"
+                                                       and "level" in path.name else write))
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "full")
+    assert status == 1 and "No space left on device" in err
+    assert not list((fake / "full").rglob("level.*.json"))
+    assert not list((fake / "full").rglob("*.tmp"))
+
+
+def test_damaged_result_is_named_on_resume(fake, capsys):
+    assert run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d")[0] == 0
+    bad = fake / "d/tissue/level.s0.3.json"
+    bad.write_text("")   # as a kill during a non-atomic write left it
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d",
+                          "--resume")
+    assert status == 1 and str(bad.relative_to(fake)) in err and "delete it" in err
+    (fake / "d/tissue/level.s1.npy").unlink()
+    bad.unlink()
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d",
+                          "--resume")
+    assert status == 1 and "level.s1.npy" in err
+
+
+def test_resume_needs_an_existing_out(fake, capsys):
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--resume")
+    assert status == 1 and "give the folder with --out" in err
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--resume", "--out", "missing")
+    assert status == 1 and "--resume: missing does not exist" in err
+    assert listing(fake) == []
+
+
+def test_two_commands_never_share_a_folder(fake, capsys):
+    """The second command on a folder in use stops at once and names it; the folder's
+    own lock is what tells (flock: also across processes)."""
+    assert run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "d")[0] == 0
+    with folders.claim(fake / "d", "study", resume=True):
+        status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "d",
+                              "--resume")
+        assert status == 1 and "in use by another cgms command" in err
+        # a second process too
+        code = ("import sys; sys.path.insert(0, sys.argv[1]); from cgms import folders\n"
+                "try:\n    with folders.claim(sys.argv[2], 'study', True): pass\n"
+                "except folders.FolderError as e: print(e); sys.exit(3)\n")
+        proc = subprocess.run([sys.executable, "-c", code, str(ROOT / "python"),
+                               str(fake / "d")], capture_output=True, text=True, timeout=60)
+        assert proc.returncode == 3 and "in use" in proc.stdout
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--width", "-1"], "argument --width: must be a positive number, got -1"),
+    (["--height", "nan"], "argument --height: must be a positive number"),
+    (["--cv", "-0.1"], "argument --cv: must be a number >= 0"),
+    (["--residual", "-1"], "argument --residual: must be a positive number"),
+    (["--dryness", "1.5"], "level 1.5 is outside (0, 1]"),
+    (["--dryness", "0.3,abc"], "'abc' is not a number"),
+    (["--max-steps", "0"], "must be at least 1"),
+])
+def test_bad_options_create_nothing(fake, capsys, args, message):
+    status, err, _ = run_cli(capsys, "study", *args)
+    assert status == 2 and message in err, err
+    assert listing(fake) == []
+
+
+@pytest.mark.parametrize("args,message", [
+    (["0"], "argument target: must be a positive number"),
+    (["-0.5"], "must be a positive number"),
+    (["0.6", "--xtol", "0"], "argument --xtol: must be a positive number"),
+])
+def test_bad_target_options(fake, capsys, args, message):
+    status, err, _ = run_cli(capsys, "target", *args)
+    assert status == 2 and message in err, err
+    assert listing(fake) == []
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--workers", "0"], "argument --workers: must be at least 1"),
+    (["--max-evaluations", "0"], "argument --max-evaluations: must be at least 1"),
+    (["--start", "k_T=abc"], "--start: bad value in 'k_T=abc'"),
+])
+def test_bad_calibrate_options(fake, capsys, args, message):
+    status, err, _ = run_cli(capsys, "calibrate", "--reference", "1=ref.txt", *args)
+    assert status == 2 and message in err, err
+    assert listing(fake) == []
+
+
+# --------------------------------------------------------------------------- section 5
+
+MATERIAL_CASES = {
+    "missing diameter": ("diameter", None, "CGMS parameter diameter is missing"),
+    "duplicate key": ("k_T", "k_T 1e-10\nk_T 2e-10",
+                      "line 9: parameter k_T given twice"),
+    "unknown key": ("k_T", "k_T 1e-10\nk_X 1", "line 9: unknown CGMS parameter 'k_X'"),
+    "negative diameter": ("diameter", "diameter -150e-6",
+                          "CGMS parameter diameter = -0.00015 must be > 0"),
+    "zero diameter": ("diameter", "diameter 0", "CGMS parameter diameter = 0 must be > 0"),
+    "value not a number": ("K", "K abc", "line 23: value 'abc' of parameter K is not a number"),
+    "three words": ("K", "K 2e7 Pa", "line 23: expected 'name value'"),
+    "perim_a above perim_b": ("perim_a", "perim_a 0.95",
+                              "perim_a (0.95) must be below perim_b (0.9)"),
+    "infinite value": ("k_PA", "k_PA inf", "value 'inf' of parameter k_PA is not finite"),
+}
+
+
+def material_file(folder, name, replacement):
+    """apple.cgms with the line of ``name`` replaced (None: removed)."""
+    lines = []
+    for line in open(APPLE).read().splitlines():
+        if line.split("#", 1)[0].split()[:1] == [name]:
+            if replacement is not None:
+                lines.extend(replacement.splitlines())
+        else:
+            lines.append(line)
+    path = folder / "bad.cgms"
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("case", sorted(MATERIAL_CASES))
+def test_material_file_rules(tmp_path, capsys, monkeypatch, case):
+    """The plugin's rules, with the file and line in the message, in the library and at
+    the command line (which stops before it creates anything)."""
+    name, replacement, message = MATERIAL_CASES[case]
+    path = material_file(tmp_path, name, replacement)
+    with pytest.raises(ValueError) as err:
+        material.read(path)
+    assert message in str(err.value) and str(path) in str(err.value), str(err.value)
+    monkeypatch.chdir(tmp_path)
+    status, text, _ = run_cli(capsys, "study", "--material", str(path), "--out", "out")
+    assert status == 1 and message in text and not (tmp_path / "out").exists()
+
+
+def test_material_that_is_a_folder_or_not_text(tmp_path, capsys):
+    with pytest.raises(FileNotFoundError, match="not found"):
+        material.read(tmp_path)
+    (tmp_path / "bin.cgms").write_bytes(b"k_T \xff\xfe\n")
+    with pytest.raises(ValueError, match=r"bin.cgms: cannot be read"):
+        material.read(tmp_path / "bin.cgms")
+
+
+@pytest.mark.parametrize("overrides,message", [
+    ("diameter 0", "diameter = 0 must be > 0"),
+    ("k_S -1", "k_S = -1 must be >= 0"),
+    ("Pi_f 2e5", "Pi_f = 200000 must be < 0"),
+    ("k_X 1", "unknown CGMS parameter 'k_X'"),
+])
+def test_set_is_checked_before_anything_is_built(fake, capsys, overrides, message):
+    """--set 'diameter 0' once built an 18 072-bead tissue at 8 um spacing before LAMMPS
+    refused it."""
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--set", overrides, "--out", "d")
+    assert status == 1 and message in err, err
+    assert listing(fake) == []
+
+
+# --------------------------------------------------------------------------- section 6
+
+def tissue_cli(folder, *args):
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "python"), env.get("PYTHONPATH", "")])
+    return subprocess.run([sys.executable, "-m", "cgms.tissue", *args], cwd=folder, env=env,
+                          capture_output=True, text=True, timeout=120)
+
+
+@pytest.mark.parametrize("args,message", [
+    (["disc", "0.01"], "the disc of radius 0.01 mm holds 1 bead(s) at spacing 150.85 um; "
+                       "a tissue needs at least 3"),
+    (["rect", "1", "1", "--inset", "-0.1"], "inset must be a finite number >= 0, got -0.0001"),
+    (["rect", "1", "1", "--cv", "5"], "--cv 5: lognormal diameters clipped at half the mean "
+                                      "would average 1.25 x the material's 150 um"),
+    (["rect", "1", "1", "--cv", "0.5", "--dist", "normal"], "average 1.04 x"),
+])
+def test_tissue_builder_refuses(tmp_path, args, message):
+    proc = tissue_cli(tmp_path, *args)
+    assert proc.returncode == 1 and message in proc.stderr, proc.stderr
+    assert "Traceback" not in proc.stderr and listing(tmp_path) == []
+
+
+def test_clipped_mean_is_the_sample_mean():
+    """tissue.clipped_mean against a large sample of cell_diameters (independent: the
+    quantile grid against random draws)."""
+    for cv, dist in ((0.3, "normal"), (1.0, "lognormal"), (0.1, "lognormal")):
+        d = tissue.cell_diameters(400_000, 1.0, cv, seed=5, dist=dist)
+        assert tissue.clipped_mean(cv, dist) == pytest.approx(d.mean(), rel=3e-3)
+
+
+def test_study_cv_is_checked_like_the_builder(fake, capsys):
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--cv", "5", "--out", "d")
+    assert status == 2 and "--cv 5" in err and listing(fake) == []
+
+
+# --------------------------------------------------------------------------- section 3
+
+@pytest.mark.lammps
+def test_lammps_error_is_shown_whole_without_the_fire_hint(tmp_path, capsys, monkeypatch):
+    """LAMMPS's Python module cuts its error message at 100 characters; the command line
+    shows the whole ERROR line of the log, and no advice about FIRE (which did not fail).
+    lj_slope 5 makes the LJ radius at s = 0.3 negative: beads lose their neighbours."""
+    monkeypatch.chdir(tmp_path)
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "0.3", "--set",
+                             "lj_slope 5", "--out", "d")
+    log = (tmp_path / "d/tissue/log.s0.3.lammps").read_text()
+    line = next(x for x in log.splitlines() if x.startswith("ERROR"))
+    assert len(line) > 100   # longer than the Python module passes on
+    assert status == 1 and line in err and "d/tissue/log.s0.3.lammps" in err, err
+    assert "FIRE" not in err
+
+
+def test_python_material_rules_are_the_plugins():
+    """material.PARAMETERS repeats the plugin's table of parameters (names, ranges,
+    required) so that files are refused alike on both sides; read that table from the
+    plugin's source and compare."""
+    import re
+    source = (ROOT / "src/CGMS/cgms_material.cpp").read_text()
+    rows = re.findall(r'\{"(\w+)",\s*&CGMS::Material::\w+,\s*(\w+),\s*(true|false)\}', source)
+    assert len(rows) >= 20, "the plugin's parameter table changed form: update this test"
+    ranges = {"POSITIVE": "> 0", "NONNEGATIVE": ">= 0", "NEGATIVE": "< 0", "ANY": "finite"}
+    plugin = {name: (ranges[r], req == "true") for name, r, req in rows}
+    assert plugin == material.PARAMETERS
