@@ -349,3 +349,26 @@ def test_cgms_mfc_tiny_study(tmp_path):
                           str(tmp_path / "bad")], env=env, capture_output=True, text=True)
     assert bad.returncode == 1 and "unknown tissue 'nowhere'" in bad.stderr
     assert "Traceback" not in bad.stderr
+
+
+def test_fresh_cluster_rounds_up_widens_and_keeps_the_lamella(tmp_path):
+    # MFC.md 7.4 check 3: lamella gaps settle near d_p, and the cluster widens when fresh
+    lmp = open_cells(tmp_path, SEVEN)
+    try:
+        report = mfc_run.relax(lmp, P, 1.0)
+        xy = mfc_run.positions(lmp)
+    finally:
+        lmp.close()
+    assert report["converged"], report
+    cell = mfc_metrics.cells(xy, N)
+    centre = cell["centroid"][0]
+    radial = np.hypot(*(cell["centroid"][1:] - centre).T)
+    assert np.all(radial > 1.02 * P["x_ref"])        # the outer cells moved out (2.5 %)
+    assert np.all(cell["roundness"] > 0.93)          # hexagons rounded up (0.907 at start)
+    from scipy.spatial import cKDTree
+    cells_of = np.repeat(np.arange(7), N)
+    d, j = cKDTree(xy).query(xy, k=40)
+    other = cells_of[j] != cells_of[:, None]
+    nearest = np.where(other, d, np.inf).min(axis=1)
+    gaps = nearest[np.isfinite(nearest) & (nearest < 12e-6)]
+    assert 7.0e-6 < np.median(gaps) < 8.5e-6
