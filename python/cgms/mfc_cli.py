@@ -28,6 +28,9 @@ def arguments(q):
     q.add_argument("--material", default="apple", help="CGMS material of the shared values")
     q.add_argument("--ftol", type=float, default=mfc_run.DEFAULTS["ftol"],
                    help="steady state: largest force on a wall particle, N (default %(default)g)")
+    q.add_argument("--shift", type=float, default=mfc_run.DEFAULTS["shift"],
+                   help="steady state, or: no cell centroid moved more than this (m) over a "
+                        "chunk of 2000 iterations (default %(default)g)")
     q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
                    help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
     q.add_argument("--max-iterations", type=int, default=mfc_run.DEFAULTS["max_iterations"],
@@ -64,7 +67,8 @@ def main(args):
     from . import folders
     from .cli import MICROSCALE
     levels = _levels(args.dryness)
-    for name, value in (("--ftol", args.ftol), ("--max-iterations", args.max_iterations)):
+    for name, value in (("--ftol", args.ftol), ("--shift", args.shift),
+                        ("--max-iterations", args.max_iterations)):
         if not value > 0:
             raise ValueError(f"{name} must be > 0, got {value}")
     if not 0 <= args.stage < 1:
@@ -89,7 +93,8 @@ def run(out, names, centres, p, levels, args):
         print(f"cgms mfc: {name}: {len(centres[name])} cells, "
               f"{len(centres[name]) * p['n_wall']} wall particles", flush=True)
         results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,
-                                stage=args.stage, max_iterations=args.max_iterations,
+                                shift=args.shift, stage=args.stage,
+                                max_iterations=args.max_iterations,
                                 say=lambda line: print(line, flush=True))
         for r in results:
             r["tissue"] = name

@@ -61,12 +61,17 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
                 previous = s
                 continue
             start = time.perf_counter()
+            log = out / f"log.{name}.lammps"
+            k = 1
+            while log.exists():   # an interrupted attempt's log is kept
+                k += 1
+                log = out / f"log.{name}.{k}.lammps"
             if lmp is None:
-                lmp = run.open_lammps(log=out / f"log.{name}.lammps")
+                lmp = run.open_lammps(log=log)
                 source = data if previous is None else out / f"state.{level_name(previous)}.data"
                 lmp.commands_list(mfc_run.setup_commands(source.resolve(), p))
             else:
-                lmp.command(f"log {(out / f'log.{name}.lammps').resolve()}")
+                lmp.command(f"log {log.resolve()}")
             report = mfc_run.ramp(lmp, p, previous, s, **solver)
             xy = mfc_run.positions(lmp)
             summary, cell = mfc_metrics.summary(xy, p["n_wall"], fresh)
