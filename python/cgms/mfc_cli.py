@@ -86,10 +86,12 @@ def main(args):
 
 def run(out, names, centres, p, levels, args):
     """Every tissue through every level; returns the per-level summaries."""
+    from .cli import MICROSCALE
     print(f"cgms mfc: {', '.join(names)}; levels {levels}; results in {out}", flush=True)
     rows = []
     for name in names:
-        folder = out / Path(name).stem
+        # a named tissue keeps its name (1.5x1.5 has no suffix); a data file its stem
+        folder = out / (name if name in MICROSCALE or name == SINGLE else Path(name).stem)
         print(f"cgms mfc: {name}: {len(centres[name])} cells, "
               f"{len(centres[name]) * p['n_wall']} wall particles", flush=True)
         results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,
