@@ -20,7 +20,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, dry_cli, folders, material, morphology, pictures, plots,
+from . import (calibrate, dry_cli, folders, material, mfc_cli, morphology, pictures, plots,
                positions, study, superpose, tissue)
 from .fitparams import BETA_BOUNDS, BOUNDS
 
@@ -652,6 +652,7 @@ COMMANDS = {
                tissue_job),
     "dry": ("dry a tissue slice in air over time (doc/drying.md)", dry_cli.add_arguments,
             dry_cli.job),
+    "mfc": (mfc_cli.HELP, mfc_cli.arguments, mfc_cli.main),
 }
 
 
