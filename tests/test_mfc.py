@@ -359,6 +359,19 @@ def test_cgms_mfc_tiny_study(tmp_path):
     assert "Traceback" not in bad.stderr
 
 
+def test_study_resume_names_a_damaged_record_and_keeps_close_levels_apart(tmp_path):
+    """A level record cut short (the run killed while writing it) stops the resume with a
+    message naming the file, not a JSON traceback; levels that %g would round alike get
+    files of their own. Both checks read only records: no LAMMPS run."""
+    from cgms import mfc_study
+    folder = tmp_path / "single"
+    folder.mkdir()
+    (folder / "level.s1.json").write_text('{"s": 1.0, "cell_area/A0"')
+    with pytest.raises(ValueError, match=r"level\.s1\.json is damaged"):
+        mfc_study.dry([[0.0, 0.0]], P, folder, levels=(1.0,))
+    assert mfc_study.level_name(0.3) != mfc_study.level_name(0.30000001)
+
+
 @pytest.mark.lammps
 def test_fresh_cluster_rounds_up_widens_and_keeps_the_lamella(tmp_path):
     # MFC.md 7.4 check 3: lamella gaps settle near d_p, and the cluster widens when fresh

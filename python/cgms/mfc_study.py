@@ -10,33 +10,33 @@ One folder per tissue. Per level ``s``:
 - ``level.s<s>.json``: tissue A, P, EL (and normalised by the fresh state), cell means,
   minimiser iterations, largest force left, seconds.
 
-A level whose ``level.s<s>.json`` exists is read back, not run again (resume); nothing
-existing is overwritten.
+A level whose ``level.s<s>.json`` exists is read back, not run again (resume). That
+record is written last and whole (:func:`cgms.folders.write_json`), so the other files of a
+level without one are the leftovers of an interrupted attempt and are replaced.
 """
 
 import csv
-import json
+import io
 import time
 from pathlib import Path
 
 import numpy as np
 
-from . import mfc_metrics, mfc_run, mfc_tissue, positions, run
-
-
-def level_name(s):
-    return f"s{s:g}"
+from . import folders, mfc_metrics, mfc_run, mfc_tissue, positions, run
+from .study import level_name
 
 
 def _write_cells(path, cell):
-    with open(path, "x", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["id", "x", "y", "area", "perimeter", "roundness", "elongation",
-                    "compactness"])
-        for k in range(len(cell["area"])):
-            w.writerow([k + 1, *(f"{v:.10g}" for v in cell["centroid"][k]),
-                        *(f"{cell[q][k]:.10g}" for q in ("area", "perimeter", "roundness",
-                                                          "elongation", "compactness"))])
+    """Per-cell measures as CSV, replacing an interrupted attempt's file."""
+    text = io.StringIO(newline="")
+    w = csv.writer(text)
+    w.writerow(["id", "x", "y", "area", "perimeter", "roundness", "elongation",
+                "compactness"])
+    for k in range(len(cell["area"])):
+        w.writerow([k + 1, *(f"{v:.10g}" for v in cell["centroid"][k]),
+                    *(f"{cell[q][k]:.10g}" for q in ("area", "perimeter", "roundness",
+                                                      "elongation", "compactness"))])
+    folders.write_atomic(path, lambda fh: fh.write(text.getvalue().encode()))
 
 
 def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
@@ -56,7 +56,7 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
             name = level_name(s)
             record = out / f"level.{name}.json"
             if record.exists():
-                results.append(json.loads(record.read_text()))
+                results.append(folders.read_json(record))
                 fresh = fresh or results[0]
                 previous = s
                 continue
@@ -79,12 +79,13 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
                 summary, cell = mfc_metrics.summary(xy, p["n_wall"], summary)
             summary.update(report, seconds=time.perf_counter() - start, particles=len(xy))
             positions.write_centroids(out / f"centroids.{name}.txt", cell["centroid"],
-                                      comment=f"MFC cell centroids at s = X/X0 = {s:g}")
+                                      comment=f"MFC cell centroids at s = X/X0 = {s:g}",
+                                      overwrite=True)
             _write_cells(out / f"cells.{name}.csv", cell)
             lmp.command(f"write_dump all custom {(out / f'walls.{name}.dump').resolve()} "
                         "id mol type x y modify sort id")
             lmp.command(f"write_data {(out / f'state.{name}.data').resolve()} nocoeff")
-            record.write_text(json.dumps(summary, indent=1) + "\n")
+            folders.write_json(record, summary)
             results.append(summary)
             fresh = fresh or summary
             previous = s
