@@ -1,5 +1,5 @@
 """Tissue morphology (python/cgms/morphology.py) on shapes with known answers.
-Needs NumPy, SciPy and (for one reader test) MDAnalysis; no LAMMPS."""
+Needs NumPy and SciPy; no LAMMPS."""
 
 import math
 import sys
@@ -387,10 +387,9 @@ def test_read_dump_xyz(tmp_path, lattice_frames):
     xy, c, frames = lattice_frames
     path = tmp_path / "tissue.dump"
     write_dump(path, frames, ["id", "type", "x", "y", "z", "mf", "pressure"])
-    got = mo.read_dump(path, columns=["mf", "pressure"], engine="numpy")
+    got = mo.read_dump(path, columns=["mf", "pressure"])
     assert [f["timestep"] for f in got] == [0, 5000]
     for f, scale in zip(got, (1.0, 0.8)):
-        assert f["reader"] == "numpy"
         assert f["ids"].tolist() == list(range(1, 31))
         np.testing.assert_allclose(f["xy"], c + scale * (xy - c), rtol=0, atol=1e-18)
         np.testing.assert_allclose(f["columns"]["mf"], np.arange(1, 31) / 100, rtol=1e-15)
@@ -399,24 +398,13 @@ def test_read_dump_xyz(tmp_path, lattice_frames):
     m0, m1 = (mo.measures(f["xy"]) for f in got)
     assert m0["area"] == pytest.approx(rect_exact(6, 5)["area"], rel=1e-12)
     assert mo.normalise(m1, m0)["A/A0"] == pytest.approx(0.64, rel=1e-12)
-    # the same file through MDAnalysis (it has id, type, x y z): float32, origin restored
-    with warnings.catch_warnings(record=True):  # MDAnalysis' own import warnings (xdrlib)
-        pytest.importorskip("MDAnalysis")
-    via = mo.read_dump(path, columns="mf")
-    assert [f["reader"] for f in via] == ["MDAnalysis"] * 2
-    for f, g in zip(via, got):
-        assert f["timestep"] == g["timestep"] and np.array_equal(f["ids"], g["ids"])
-        np.testing.assert_allclose(f["xy"], g["xy"], rtol=0, atol=1e-9)  # float32 of ~1e-3 m
-        np.testing.assert_array_equal(f["columns"]["mf"], g["columns"]["mf"])
-    assert list(via[0]["columns"]) == ["mf"]
-    assert mo.measures(via[1]["xy"])["area"] == pytest.approx(m1["area"], rel=1e-5)
-    everything = mo.read_dump(path, columns="all", engine="numpy")[0]["columns"]
+    assert list(mo.read_dump(path, columns="mf")[0]["columns"]) == ["mf"]
+    everything = mo.read_dump(path, columns="all")[0]["columns"]
     assert list(everything) == ["type", "mf", "pressure"]
 
 
 def test_read_dump_cgms_columns(tmp_path, lattice_frames):
-    """A CGMS-style dump without z (id type x y vx vy mf rho pressure): MDAnalysis cannot
-    read it, the parser does."""
+    """A CGMS-style dump without z (id type x y vx vy mf rho pressure)."""
     xy, c, frames = lattice_frames
     cols = ["id", "type", "x", "y", "vx", "vy", "mf", "rho", "pressure"]
     frames = [(s, [(r[0], r[1], r[2], r[3], 0.0, 0.0, r[5], 1000.0, r[6]) for r in rows])
@@ -424,11 +412,8 @@ def test_read_dump_cgms_columns(tmp_path, lattice_frames):
     path = tmp_path / "cgms.dump"
     write_dump(path, frames, cols)
     got = mo.read_dump(path, columns=["mf", "rho"])
-    assert [f["reader"] for f in got] == ["numpy", "numpy"]
     np.testing.assert_allclose(got[0]["xy"], xy, rtol=0, atol=1e-18)
     np.testing.assert_allclose(got[1]["columns"]["rho"], 1000.0)
-    with pytest.raises(ValueError, match="needs x y z .* x y$"):
-        mo.read_dump(path, engine="mdanalysis")
     with pytest.raises(ValueError, match="no column 'radius'"):
         mo.read_dump(path, columns=["mf", "radius"])
 
@@ -448,9 +433,7 @@ def test_read_dump_missing_columns(tmp_path, lattice_frames):
     path = tmp_path / "notype.dump"
     write_dump(path, [(s, [(r[0], r[2], r[3], r[4]) for r in rows]) for s, rows in frames],
                ["id", "x", "y", "z"])
-    assert mo.read_dump(path)[0]["reader"] == "numpy"  # MDAnalysis would need 'type'
-    with pytest.raises(ValueError, match="type"):
-        mo.read_dump(path, engine="mdanalysis")
+    assert mo.read_dump(path)[0]["ids"].tolist() == list(range(1, 31))  # no 'type' needed
 
 
 def test_read_dump_scaled_and_truncated(tmp_path, lattice_frames):
@@ -461,11 +444,8 @@ def test_read_dump_scaled_and_truncated(tmp_path, lattice_frames):
                    for r in rows]) for s, rows in frames]
     path = tmp_path / "scaled.dump"
     write_dump(path, scaled, ["id", "type", "xs", "ys", "zs"], box=box)
-    got = mo.read_dump(path)  # MDAnalysis 2.4 gets xs wrong (L xs - xlo): parser used
-    assert got[0]["reader"] == "numpy"
+    got = mo.read_dump(path)
     np.testing.assert_allclose(got[0]["xy"], xy, rtol=0, atol=1e-18)
-    with pytest.raises(ValueError, match="scaled"):
-        mo.read_dump(path, engine="mdanalysis")
     # a dump still being written: the incomplete last frame is dropped with a warning
     text = path.read_text().splitlines()
     path.write_text("\n".join(text[:-5]) + "\n")
@@ -501,7 +481,7 @@ def test_read_dump_triclinic_time_units_gz(tmp_path, lattice_frames):
     with gzip.open(tmp_path / "tri.dump.gz", "wt") as fh:
         fh.write(text)
     (f,) = mo.read_dump(tmp_path / "tri.dump.gz", columns="mf")
-    assert f["timestep"] == 7 and f["reader"] == "numpy" and f["box"].shape == (3, 3)
+    assert f["timestep"] == 7 and f["box"].shape == (3, 3)
     assert f["time"] == 7e-7
     np.testing.assert_allclose(f["xy"], c + 0.8 * (xy - c), rtol=0, atol=1e-17)
     np.testing.assert_allclose(f["columns"]["mf"], np.arange(1, 31) / 100, rtol=1e-15)

@@ -149,7 +149,7 @@ def dry(out, name, t, mat_file, mat, levels, args):
     panels_p, panels_s = [], []
     for r in results:
         frame = morphology.read_dump(folder / f"tissue.{study.level_name(r['dryness'])}.dump",
-                                     columns=["pressure"], engine="numpy")[-1]
+                                     columns=["pressure"])[-1]
         panels_p.append((f"s = {r['dryness']:g}", frame["xy"], frame["columns"]["pressure"] / 1e3))
         panels_s.append((f"s = {r['dryness']:g}", r["xy"],
                          morphology.shrinkage(r["xy"], fresh["xy"])))
@@ -258,8 +258,7 @@ def sensitivity_snapshots(out, done, factors):
                 row = next(q for q in setting if q["factor"] == r["factor"] and q["s"] == s)
                 folder = out / f"{parameter}-{r['factor']}"
                 folder = folder / "dynamics" if row["method"] == "dynamics" else folder
-                return morphology.read_dump(folder / f"tissue.{study.level_name(s)}.dump",
-                                            engine="numpy")[-1]
+                return morphology.read_dump(folder / f"tissue.{study.level_name(s)}.dump")[-1]
             dried, fresh = final(0.3), final(1.0)
             panels.append((f"{parameter} x {r['factor']}", dried["xy"],
                            morphology.shrinkage(dried["xy"], fresh["xy"])))

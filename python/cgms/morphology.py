@@ -536,47 +536,7 @@ def _frame_xy(path, f):
                      f"in ITEM: ATOMS {' '.join(f['columns'])}")
 
 
-def _mdanalysis_reason(frames):
-    """Why MDAnalysis (2.4) cannot read these frames, or None."""
-    cols = frames[0]["columns"]
-    missing = [c for c in ("id", "type") if c not in cols]
-    if missing:
-        return f"it needs the column(s) {', '.join(missing)}"
-    if not any(all(c in cols for c in s) for s in (("x", "y", "z"), ("xu", "yu", "zu"))):
-        have = [c for c in ("x", "y", "z", "xs", "ys", "zs") if c in cols]
-        why = "it needs x y z (or xu yu zu) and the dump has " + (" ".join(have) or "neither")
-        if any(c in cols for c in ("xs", "xsu")):
-            why += " (scaled coordinates: MDAnalysis 2.4 returns L*xs - xlo, issue #4788)"
-        return why
-    if any(f["columns"] != cols or f["natoms"] != frames[0]["natoms"] or f["items"]
-           for f in frames):
-        return "it needs the same columns and atom count in every frame and no extra ITEM " \
-               "sections (TIME, UNITS)"
-    return None
-
-
-def _mdanalysis_xy(path, frames):
-    """Positions (sorted by id) of every frame read with MDAnalysis, shift undone."""
-    with warnings.catch_warnings(record=True):  # xdrlib deprecation, "Guessed all Masses"
-        warnings.simplefilter("ignore")  # (record: MDAnalysis adds its own filter on import)
-        import MDAnalysis as mda
-        cols = frames[0]["columns"]
-        conv = "unscaled" if all(c in cols for c in ("x", "y", "z")) else "unwrapped"
-        u = mda.Universe(str(path), format="LAMMPSDUMP", lammps_coordinate_convention=conv)
-        if u.trajectory.n_frames != len(frames):
-            raise ValueError(f"{path}: MDAnalysis sees {u.trajectory.n_frames} frames, the "
-                             f"parser {len(frames)}; use engine='numpy'")
-        shift = tuple(int(v) for v in mda.__version__.split(".")[:2]) >= (2, 4)
-        out = []
-        for ts, f in zip(u.trajectory, frames):
-            xy = np.array(ts.positions[:, :2], dtype=float)
-            if shift:  # MDAnalysis >= 2.4 moves the box origin to 0
-                xy += _real_box(f["box"], f["box_flags"])[0][:2]
-            out.append((ts.data["step"], np.array(u.atoms.ids, dtype=np.int64), xy))
-    return out
-
-
-def read_dump(path, columns=None, engine="auto"):
+def read_dump(path, columns=None):
     """Frames of a LAMMPS ``dump custom`` (or ``dump atom``) text file (``.gz`` allowed).
 
     Returns a list with one dict per frame:
@@ -588,24 +548,15 @@ def read_dump(path, columns=None, engine="auto"):
     - ``columns``: {name: (n,) array sorted by id} for the requested extra columns
       (``columns``: a name, a list of names, ``"all"`` for every column except id and the
       coordinates used, or None for none); numeric columns are float, others str,
-    - ``reader``: ``"MDAnalysis"`` or ``"numpy"``, whichever read the positions,
     - ``time``: simulated time, when the dump has ``ITEM: TIME`` (dump_modify time yes).
 
-    ``engine``: ``"numpy"`` reads everything with the built-in parser (float64, any
-    columns, any ITEM sections, truncated last frame dropped with a warning);
-    ``"mdanalysis"`` reads the positions with ``MDAnalysis.Universe(path,
-    format="LAMMPSDUMP")``, which needs the columns ``id``, ``type`` and ``x y z`` (or
-    ``xu yu zu``), a fixed atom count and no extra ITEM sections; it stores float32 and
-    (2.4 and later) moves the box origin to 0, which is undone here. ``"auto"`` (default)
-    uses MDAnalysis when it can read the file and the parser otherwise (a dump without a
-    z column, e.g. ``id type x y vx vy mf ...``, always goes to the parser). The extra
-    columns, timestep and box always come from the parser.
+    Read in float64 with a plain-text parser: any columns, any ITEM sections, a truncated
+    last frame dropped with a warning. (A whole trajectory frame by frame, without loading
+    it into memory, is :func:`cgms.trajectory.universe`, MDAnalysis.)
 
     Raises ValueError for a dump without ``id`` or coordinate columns, naming the missing
     column, or without a requested column.
     """
-    if engine not in ("auto", "numpy", "mdanalysis"):
-        raise ValueError(f"engine must be 'auto', 'numpy' or 'mdanalysis', got {engine!r}")
     frames = _dump_frames(path)
     if isinstance(columns, str) and columns != "all":
         columns = [columns]
@@ -640,23 +591,7 @@ def read_dump(path, columns=None, engine="auto"):
             except ValueError:
                 extra[c] = raw
         result.append(dict(timestep=f["timestep"], ids=ids, xy=xy[order], box=f["box"],
-                           columns=extra, reader="numpy"))
+                           columns=extra))
         if f["items"].get("TIME"):
             result[-1]["time"] = float(f["items"]["TIME"][0])
-    if engine != "numpy":
-        why = _mdanalysis_reason(frames)
-        if why and engine == "mdanalysis":
-            raise ValueError(f"{path}: MDAnalysis cannot read this dump: {why}")
-        if not why:
-            try:
-                mda_frames = _mdanalysis_xy(path, frames)
-            except ImportError:
-                if engine == "mdanalysis":
-                    raise
-                return result
-            for r, (step, ids, xy) in zip(result, mda_frames):
-                if step != r["timestep"] or not np.array_equal(ids, r["ids"]):
-                    raise ValueError(f"{path}: MDAnalysis and the parser disagree on frame "
-                                     f"{r['timestep']}; use engine='numpy'")
-                r["xy"], r["reader"] = xy, "MDAnalysis"
     return result

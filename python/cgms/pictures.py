@@ -252,7 +252,7 @@ def _field(folder, result, field, fresh, cells):
     of the level's final dump; and the cell sides (the dump's ``side``) for hexagons."""
     dump = Path(folder) / f"tissue.{study.level_name(result['dryness'])}.dump"
     names = {field} - {"shrinkage"} | ({"side"} if cells == "hexagon" else set())
-    frame = morphology.read_dump(dump, columns=sorted(names), engine="numpy")[-1]
+    frame = morphology.read_dump(dump, columns=sorted(names))[-1]
     if not np.allclose(frame["xy"], result["xy"], rtol=0, atol=1e-9):
         raise ValueError(f"{dump} does not hold the positions of {folder}/level.*.npy")
     if field == "shrinkage":

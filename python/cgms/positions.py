@@ -149,7 +149,7 @@ def read_centroids(path):
     first = next((line.strip() for line in text.splitlines() if line.strip()), "")
     if first.startswith("ITEM:"):
         from . import morphology
-        frame = morphology.read_dump(path, engine="numpy")[-1]
+        frame = morphology.read_dump(path)[-1]
         return frame["ids"], frame["xy"]
     ids, xy, seen = [], [], False
     for lineno, raw in enumerate(text.splitlines(), 1):
