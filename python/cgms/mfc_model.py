@@ -10,7 +10,7 @@ below are the MFC's own, each with its source or the reason it was chosen (doc/m
 
 import math
 
-from . import material
+from . import material, model
 
 #: the MFC's own parameters (SI units)
 MFC = dict(
@@ -57,13 +57,8 @@ def level(p, s):
     s = float(s)
     if not 0 < s <= 1:
         raise ValueError(f"dryness s = X/X0 must be in (0, 1], got {s!r}")
-    contraction = 1 - p["perim_a"] / p["perim_b"] * (1 - s)
+    contraction = float(model.perimeter_contraction(p, s))
     return dict(s=s, fluid_area=s * p["A_ref"], turgor=s * p["P_f"],
                 r0_bond=p["r0_bond"] * contraction, contraction=contraction,
                 wall_mass=s * p["wall_mass"])
 
-
-def eos_pressure(p, area, fluid_area, turgor):
-    """Pressure (Pa) of a cell's fluid at rest filling ``area``: CGMS eqn (4),
-    P = P_T + K [(rho/rho0)^7 - 1] with rho/rho0 = fluid_area / area."""
-    return turgor + p["K"] * ((fluid_area / area) ** 7 - 1)

@@ -41,11 +41,16 @@ def fresh_perimeter(mat, diameter=None):
     return mat["turgid_ratio"] * reference_cell(d, mat["pectin"])["l_ref"]
 
 
+def perimeter_contraction(mat, s):
+    """l_d / l0' = 1 - (a/b)(1 - s): the perimeter law (eqn 9) as a fraction of the fresh
+    perimeter (the MFC scales its wall rest lengths by it too)."""
+    return 1 - mat["perim_a"] / mat["perim_b"] * (1 - np.asarray(s, float))
+
+
 def equilibrium_perimeter(mat, s, diameter=None):
     """l_d = l0' [1 - (a/b)(1 - s)], the perimeter that the moisture level prescribes
     (eqn 9)."""
-    return fresh_perimeter(mat, diameter) * (1 - mat["perim_a"] / mat["perim_b"]
-                                             * (1 - np.asarray(s, float)))
+    return fresh_perimeter(mat, diameter) * perimeter_contraction(mat, s)
 
 
 def steady_perimeter(mat, s, diameter=None, k_T=None, k_PA=None):
