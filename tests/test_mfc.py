@@ -359,6 +359,21 @@ def test_cgms_mfc_tiny_study(tmp_path):
     assert "Traceback" not in bad.stderr
 
 
+def test_wall_data_file_is_written_whole_or_not_at_all(tmp_path):
+    """A write that fails half-way (here: a title UTF-8 cannot encode) leaves no file that a
+    resumed study would take for its walls; a file already there is kept."""
+    path = tmp_path / "walls.data"
+    with pytest.raises(UnicodeEncodeError):
+        mfc_tissue.write_data(path, [[0.0, 0.0]], P, title="\ud800")
+    assert list(tmp_path.iterdir()) == []
+    path.write_text("the user's work\n")
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        mfc_tissue.write_data(path, [[0.0, 0.0]], P)
+    assert path.read_text() == "the user's work\n"
+    mfc_tissue.write_data(path, [[0.0, 0.0]], P, overwrite=True)
+    assert f"{P['n_wall']} atoms" in path.read_text()
+
+
 def test_study_resume_names_a_damaged_record_and_keeps_close_levels_apart(tmp_path):
     """A level record cut short (the run killed while writing it) stops the resume with a
     message naming the file, not a JSON traceback; levels that %g would round alike get

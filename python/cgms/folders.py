@@ -67,9 +67,10 @@ def claim(out, kind, resume=False):
         fh.close()
 
 
-def write_atomic(path, write):
+def write_atomic(path, write, replace=True):
     """Create ``path`` whole or not at all: ``write(file object)`` fills a temporary file
-    beside it, which is then renamed to ``path``."""
+    beside it, which is then renamed to ``path``. With ``replace`` false an existing
+    ``path`` is kept (FileExistsError): the file is linked in, which never replaces."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
@@ -77,11 +78,30 @@ def write_atomic(path, write):
             write(fh)
             fh.flush()
             os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
+        if replace:
+            os.replace(tmp, path)
+        else:
+            try:
+                os.link(tmp, path)
+            except FileExistsError:
+                raise
+            except OSError:   # a file system without hard links: check, then rename
+                if path.exists():
+                    raise FileExistsError(path) from None
+                os.replace(tmp, path)
+    finally:
         Path(tmp).unlink(missing_ok=True)
-        raise
     return path
+
+
+def write_text(path, text, overwrite=False):
+    """A new text file written whole or not at all; an existing one is kept
+    (FileExistsError naming it) unless ``overwrite``."""
+    try:
+        return write_atomic(path, lambda fh: fh.write(text.encode()), replace=overwrite)
+    except FileExistsError:
+        raise FileExistsError(f"{os.fspath(path)} exists; pass overwrite=True to replace it") \
+            from None
 
 
 def write_json(path, obj):

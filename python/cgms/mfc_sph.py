@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import mfc_run, mfc_tissue
+from . import folders, mfc_run, mfc_tissue
 from .mfc_model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
@@ -71,8 +71,7 @@ def write_data(path, centres, p, overwrite=False):
               for i, (t, m, (x, y)) in enumerate(zip(types, mols, xy))]
     lines += ["", "Bonds", ""] + [f"{i} 1 {i} {j}" for i, j in zip(ids, nxt)]
     lines += ["", "Angles", ""] + [f"{i} 1 {a} {i} {b}" for i, a, b in zip(ids, prv, nxt)]
-    with open(path, "w" if overwrite else "x") as fh:
-        fh.write("\n".join(lines) + "\n")
+    folders.write_text(path, "\n".join(lines) + "\n", overwrite)
     return dict(walls=nw, fluid=ncell * nf)
 
 

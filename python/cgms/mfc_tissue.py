@@ -15,6 +15,8 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
+from . import folders
+
 #: neighbours closer than this many lattice spacings are adjacent cells
 ADJACENT = 1.2
 
@@ -122,7 +124,6 @@ def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwri
               for i, c, k, (x, y) in zip(ids, w["cell"], w["colour"], xy)]
     lines += ["", "Bonds", ""] + [f"{i} 1 {i} {j}" for i, j in zip(ids, nxt)]
     lines += ["", "Angles", ""] + [f"{i} 1 {a} {i} {b}" for i, a, b in zip(ids, prv, nxt)]
-    with open(path, "w" if overwrite else "x") as fh:
-        fh.write("\n".join(lines) + "\n")
+    folders.write_text(path, "\n".join(lines) + "\n", overwrite)
     assert ncell * n == len(xy)
     return w

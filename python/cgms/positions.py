@@ -4,10 +4,11 @@ plain centroid lists (``id x y`` per line, metres), e.g. digitised from a microg
 reference centroids of a calibration. LAMMPS dumps are read by
 :func:`cgms.morphology.read_dump`; :func:`read_any` takes any of the three."""
 
-import os
 from pathlib import Path
 
 import numpy as np
+
+from . import folders
 
 
 def _check_positive(name, value):
@@ -67,13 +68,7 @@ def write_data(path, xy, margin, title="CGMS tissue", diameters=None, overwrite=
     if diameters is not None:
         lines += ["", "Diameters", ""]
         lines += [f"{i} {d:.17g}" for i, d in zip(ids, diameters)]
-    text = "\n".join(lines) + "\n"
-    try:
-        with open(path, "w" if overwrite else "x") as fh:
-            fh.write(text)
-    except FileExistsError:
-        raise FileExistsError(f"{os.fspath(path)} exists; pass overwrite=True to replace it") \
-            from None
+    folders.write_text(path, "\n".join(lines) + "\n", overwrite)
     return len(xy)
 
 
@@ -189,9 +184,7 @@ def write_centroids(path, xy, ids=None, comment="", overwrite=False):
     ids = np.arange(1, len(xy) + 1) if ids is None else np.asarray(ids, int)
     lines = [f"# {line}" for line in comment.splitlines()] + ["# id x y (m)"]
     lines += [f"{i} {x!r} {y!r}" for i, (x, y) in zip(ids, xy)]
-    with open(path, "w" if overwrite else "x") as fh:
-        fh.write("\n".join(lines) + "\n")
-    return Path(path)
+    return folders.write_text(path, "\n".join(lines) + "\n", overwrite)
 
 
 def is_data_file(path):
