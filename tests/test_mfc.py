@@ -353,6 +353,10 @@ def test_cgms_mfc_tiny_study(tmp_path):
     resumed = subprocess.run(cmd + ["--resume"], env=env, capture_output=True, text=True,
                              timeout=300)
     assert resumed.returncode == 0 and "iterations" not in resumed.stdout.split("tissue")[0]
+    other = subprocess.run(cmd + ["--resume", "--ftol", "1e-8"], env=env, capture_output=True,
+                           text=True, timeout=300)
+    assert other.returncode == 1 and "holds results of another setup (ftol" in other.stderr
+    assert "Traceback" not in other.stderr
     bad = subprocess.run([sys.executable, "-m", "cgms", "mfc", "nowhere", "--out",
                           str(tmp_path / "bad")], env=env, capture_output=True, text=True)
     assert bad.returncode == 1 and "unknown tissue 'nowhere'" in bad.stderr

@@ -16,6 +16,7 @@ level without one are the leftovers of an interrupted attempt and are replaced.
 """
 
 import csv
+import hashlib
 import io
 import time
 from pathlib import Path
@@ -42,9 +43,14 @@ def _write_cells(path, cell):
 def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     """Relax the MFC tissue whose cells sit at ``centres`` (CGMS bead positions, m) at
     every level (descending; the fresh level 1 first, it is the reference), along the
-    drying ramp of :func:`cgms.mfc_run.ramp`. Returns the per-level summaries."""
+    drying ramp of :func:`cgms.mfc_run.ramp`. Returns the per-level summaries.
+    ``out/setup.json`` records the centres, the parameters and the solver options; a
+    folder with another record is refused (FolderError), so a resume never mixes them."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    centres_sha256 = hashlib.sha256(np.ascontiguousarray(centres, float).tobytes()).hexdigest()
+    folders.same_setup(out / "setup.json", dict(centres_sha256=centres_sha256, parameters=p,
+                                                **{k: solver[k] for k in sorted(solver)}))
     levels = sorted({1.0, *map(float, levels)}, reverse=True)
     data = out / "walls.data"
     if not data.exists():
