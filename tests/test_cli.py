@@ -165,6 +165,18 @@ def test_bad_options_create_nothing(fake, capsys, args, message):
 
 
 @pytest.mark.parametrize("args,message", [
+    (["--dryness", "1,1.5"], "level 1.5 is outside (0, 1]"),
+    (["--dryness", "0.3,abc"], "'abc' is not a number"),
+    (["--ftol", "0"], "argument --ftol: must be a positive number"),
+    (["--max-iterations", "0"], "argument --max-iterations: must be at least 1"),
+])
+def test_bad_mfc_options(fake, capsys, args, message):
+    status, err, _ = run_cli(capsys, "mfc", "single", *args)
+    assert status == 2 and message in err, err
+    assert listing(fake) == []
+
+
+@pytest.mark.parametrize("args,message", [
     (["0"], "argument target: must be a positive number"),
     (["-0.5"], "must be a positive number"),
     (["0.6", "--xtol", "0"], "argument --xtol: must be a positive number"),

@@ -17,35 +17,26 @@ HELP = ("the fine-scale MFC model: dry cell-resolved tissues (every cell a ring 
 
 def arguments(q):
     """The options of ``cgms mfc``."""
+    from .cli import levels, positive_float, positive_int
     q.add_argument("tissues", nargs="*", default=["calibration"],
                    help="tissue names: calibration (86 cells, default), 1.5x1.5, 1.5x2.0, "
                         "1.5x2.5, 2.0x2.0, 2.0x2.5, all (the six), single (one cell), or a "
                         "CGMS data file (cells at its beads)")
-    q.add_argument("--dryness", default="1,0.8,0.6,0.4,0.3",
+    q.add_argument("--dryness", type=levels, default="1,0.8,0.6,0.4,0.3",
                    help="levels X/X0 (default 1,0.8,0.6,0.4,0.3; the fresh level is always run)")
     q.add_argument("--out", help="results folder (default results/mfc/<date-time>)")
     q.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
     q.add_argument("--material", default="apple", help="CGMS material of the shared values")
-    q.add_argument("--ftol", type=float, default=mfc_run.DEFAULTS["ftol"],
+    q.add_argument("--ftol", type=positive_float, default=mfc_run.DEFAULTS["ftol"],
                    help="steady state: largest force on a wall particle, N (default %(default)g)")
-    q.add_argument("--shift", type=float, default=mfc_run.DEFAULTS["shift"],
+    q.add_argument("--shift", type=positive_float, default=mfc_run.DEFAULTS["shift"],
                    help="steady state, or: no cell centroid moved more than this (m) over a "
                         "chunk of 2000 iterations (default %(default)g)")
     q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
                    help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
-    q.add_argument("--max-iterations", type=int, default=mfc_run.DEFAULTS["max_iterations"],
+    q.add_argument("--max-iterations", type=positive_int,
+                   default=mfc_run.DEFAULTS["max_iterations"],
                    help="minimiser iteration limit per stage (default %(default)d)")
-
-
-def _levels(text):
-    try:
-        levels = [float(w) for w in text.replace(",", " ").split()]
-    except ValueError:
-        raise ValueError(f"--dryness must be numbers separated by commas, got {text!r}") from None
-    bad = [s for s in levels if not 0 < s <= 1]
-    if not levels or bad:
-        raise ValueError(f"--dryness levels must be in (0, 1], got {text!r}")
-    return levels
 
 
 def _centres(name, p):
@@ -66,11 +57,7 @@ def main(args):
     """Run the study; returns an exit status."""
     from . import folders
     from .cli import MICROSCALE
-    levels = _levels(args.dryness)
-    for name, value in (("--ftol", args.ftol), ("--shift", args.shift),
-                        ("--max-iterations", args.max_iterations)):
-        if not value > 0:
-            raise ValueError(f"{name} must be > 0, got {value}")
+    levels = args.dryness
     if not 0 <= args.stage < 1:
         raise ValueError(f"--stage must be in [0, 1), got {args.stage}")
     names = list(MICROSCALE) if args.tissues == ["all"] else args.tissues
