@@ -102,8 +102,9 @@ def test_read_only_or_full_disk_says_so(fake, capsys, monkeypatch):
 
     real_write = folders.write_atomic
     monkeypatch.setattr(folders, "write_atomic",
-                        lambda path, write: real_write(path, full if path.suffix == ".json"
-                                                       and "level" in path.name else write))
+                        lambda path, write, **kw: real_write(
+                            path, full if path.suffix == ".json" and "level" in path.name
+                            else write, **kw))
     status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--out", "full")
     assert status == 1 and "No space left on device" in err
     assert not list((fake / "full").rglob("level.*.json"))
