@@ -20,7 +20,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, folders, material, morphology, plots, positions, study,
+from . import (calibrate, folders, material, mfc_cli, morphology, plots, positions, study,
                superpose, tissue)
 from .fitparams import BETA_BOUNDS, BOUNDS
 
@@ -657,6 +657,7 @@ def parser():
         q = sub.add_parser(name, help=text, description=text)
         arguments(q)
         q.set_defaults(func=job)
+    mfc_cli.add_parser(sub)
     return p
 
 

@@ -13,6 +13,7 @@
 #include "comm.h"
 #include "error.h"
 #include "fix_cgms_fluid.h"
+#include "fix_mfc_pressure.h"
 #include "lammps.h"
 #include "pair_cgms.h"
 #include "version.h"
@@ -29,6 +30,11 @@ static Pair *pair_cgms_creator(LAMMPS *lmp)
 static Fix *fix_cgms_fluid_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixCGMSFluid(lmp, argc, argv);
+}
+
+static Fix *fix_mfc_pressure_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixMFCPressure(lmp, argc, argv);
 }
 
 static AtomVec *atom_vec_cgms_creator(LAMMPS *lmp)
@@ -66,6 +72,11 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
   plugin.name = "cgms/fluid";
   plugin.info = "CGMS fix: virtual-cell geometry, turgor pressure and mass transfer";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_cgms_fluid_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "mfc/pressure";
+  plugin.info = "MFC fix: one equation-of-state pressure per cell from the area its wall encloses";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_mfc_pressure_creator;
   (*register_plugin)(&plugin, lmp);
 
   // LAMMPS's plugin loader has no atom styles; the creator map is public,

@@ -1,0 +1,107 @@
+"""``python3 -m cgms mfc``: dry fine-scale (MFC) tissues to steady state at each moisture
+level and write the reference centroids (doc/mfc.md)."""
+
+import sys
+from datetime import datetime
+from pathlib import Path
+
+from . import mfc_model, mfc_run, mfc_study, tissue
+
+SINGLE = "single"
+
+
+def add_parser(subparsers):
+    """The ``mfc`` subcommand."""
+    q = subparsers.add_parser(
+        "mfc", help="the fine-scale MFC model: cell-resolved reference tissues",
+        description="Dry fine-scale (MFC) tissues, every cell a ring of wall particles around "
+                    "its fluid, to steady state at each moisture level (fast variant: one "
+                    "pressure per cell). Cell i sits at bead i of the CGMS tissue of the same "
+                    "name. Results: a new folder (or --resume an interrupted one).")
+    q.add_argument("tissues", nargs="*", default=["calibration"],
+                   help="tissue names: calibration (86 cells, default), 1.5x1.5, 1.5x2.0, "
+                        "1.5x2.5, 2.0x2.0, 2.0x2.5, all (the six), single (one cell), or a "
+                        "CGMS data file (cells at its beads)")
+    q.add_argument("--dryness", default="1,0.8,0.6,0.4,0.3",
+                   help="levels X/X0 (default 1,0.8,0.6,0.4,0.3; the fresh level is always run)")
+    q.add_argument("--out", help="results folder (default results/mfc/<date-time>)")
+    q.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
+    q.add_argument("--material", default="apple", help="CGMS material of the shared values")
+    q.add_argument("--ftol", type=float, default=mfc_run.DEFAULTS["ftol"],
+                   help="steady state: largest force on a wall particle, N (default %(default)g)")
+    q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
+                   help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
+    q.add_argument("--max-iterations", type=int, default=mfc_run.DEFAULTS["max_iterations"],
+                   help="minimiser iteration limit per stage (default %(default)d)")
+    q.set_defaults(func=main)
+    return q
+
+
+def _levels(text):
+    try:
+        levels = [float(w) for w in text.replace(",", " ").split()]
+    except ValueError:
+        raise ValueError(f"--dryness must be numbers separated by commas, got {text!r}") from None
+    bad = [s for s in levels if not 0 < s <= 1]
+    if not levels or bad:
+        raise ValueError(f"--dryness levels must be in (0, 1], got {text!r}")
+    return levels
+
+
+def _centres(name, p):
+    """Cell centres of a named tissue (the CGMS builder's) or of a CGMS data file."""
+    from .cli import MICROSCALE  # the tissue table lives with the CGMS commands
+    if name == SINGLE:
+        return [[0.0, 0.0]]
+    if name in MICROSCALE:
+        w, h = MICROSCALE[name]
+        return tissue.rectangle(w * 1e-3, h * 1e-3, p["x_ref"])
+    if Path(name).is_file():
+        return mfc_study.read_centres(name)
+    raise ValueError(f"unknown tissue {name!r}: give one of {SINGLE}, "
+                     f"{', '.join(MICROSCALE)}, all, or a CGMS data file")
+
+
+def main(args):
+    """Run the study; returns an exit status."""
+    from .cli import MICROSCALE, new_folder
+    levels = _levels(args.dryness)
+    for name, value in (("--ftol", args.ftol), ("--max-iterations", args.max_iterations)):
+        if not value > 0:
+            raise ValueError(f"{name} must be > 0, got {value}")
+    if not 0 <= args.stage < 1:
+        raise ValueError(f"--stage must be in [0, 1), got {args.stage}")
+    names = list(MICROSCALE) if args.tissues == ["all"] else args.tissues
+    p = mfc_model.parameters(args.material)
+    centres = {name: _centres(name, p) for name in names}   # bad names stop before any run
+    if args.resume and args.out:
+        out = Path(args.out)
+    else:
+        out = new_folder(args.out, "mfc")
+    print(f"cgms mfc: {', '.join(names)}; levels {levels}; results in {out}", flush=True)
+    rows = []
+    for name in names:
+        folder = out / Path(name).stem
+        print(f"cgms mfc: {name}: {len(centres[name])} cells, "
+              f"{len(centres[name]) * p['n_wall']} wall particles", flush=True)
+        results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,
+                                stage=args.stage, max_iterations=args.max_iterations,
+                                say=lambda line: print(line, flush=True))
+        for r in results:
+            r["tissue"] = name
+        rows += results
+        mfc_study.write_table(results, folder / f"summary-{datetime.now():%H%M%S}.csv")
+    print("\n  tissue        cells     s    A/A0    P/P0   EL/EL0  cellA/A0  cellP/P0  "
+          "converged")
+    for r in rows:
+        print(f"  {r['tissue']:12s} {r['cells']:6d}  {r['s']:4.2f}  "
+              + "  ".join(f"{r[k]:.4f}" if k in r else "   -  " for k in
+                          ("A/A0", "P/P0", "EL/EL0", "cell_area/A0", "cell_perimeter/P0"))
+              + f"  {'yes' if r['converged'] else 'NO'}")
+    print(f"\ncgms mfc: centroids {out}/*/centroids.s*.txt; cells.s*.csv; walls.s*.dump "
+          "(OVITO)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit("use: python3 -m cgms mfc ...")

@@ -1,0 +1,76 @@
+"""Measures of fine-scale (MFC) cells and tissues from wall particle positions.
+
+A cell is the closed polygon of its wall particles in ID order (counter-clockwise). Per
+cell: area (shoelace), perimeter (sum of bond lengths), area centroid, roundness
+4 pi A / P^2, elongation (major / minor axis of the second-moment ellipse) and
+compactness sqrt(4 A / pi) / major axis. The tissue measures A, P, EL are those of the
+CGMS beads (:func:`cgms.morphology.measures`) applied to the cell centroids, so the two
+models are measured alike.
+"""
+
+import math
+
+import numpy as np
+
+from . import morphology
+
+
+def polygons(xy, n_wall):
+    """Wall positions (n_cells * n_wall, 2), in ID order, as (n_cells, n_wall, 2)."""
+    xy = np.asarray(xy, float)[:, :2]
+    if len(xy) % n_wall:
+        raise ValueError(f"{len(xy)} wall particles is not a multiple of {n_wall} per cell")
+    return xy.reshape(-1, n_wall, 2)
+
+
+def cells(xy, n_wall):
+    """Per-cell measures as a dict of arrays: ``area``, ``perimeter``, ``centroid`` (n, 2),
+    ``roundness``, ``elongation``, ``compactness``, ``major`` (axis length)."""
+    poly = polygons(xy, n_wall)
+    out = {k: np.empty(len(poly)) for k in ("area", "perimeter", "roundness", "elongation",
+                                            "compactness", "major")}
+    out["centroid"] = np.empty((len(poly), 2))
+    for c, q in enumerate(poly):
+        area, centroid, (sxx, syy, sxy) = morphology._polygon_moments(q)
+        lam = np.linalg.eigvalsh(np.array([[sxx, sxy], [sxy, syy]]))
+        perimeter = float(np.sum(np.hypot(*(np.roll(q, -1, axis=0) - q).T)))
+        # an ellipse of semi-axes a, b has area moment pi a^3 b / 4 = A a^2 / 4
+        major = 4 * math.sqrt(lam[1] / area)
+        out["area"][c] = area
+        out["perimeter"][c] = perimeter
+        out["centroid"][c] = centroid
+        out["roundness"][c] = 4 * math.pi * area / perimeter ** 2
+        out["elongation"][c] = math.sqrt(lam[1] / lam[0])
+        out["compactness"][c] = math.sqrt(4 * area / math.pi) / major
+        out["major"][c] = major
+    return out
+
+
+def tissue(centroids):
+    """Tissue area, perimeter, elongation (and the rest of
+    :func:`cgms.morphology.measures`) of the cell centroids."""
+    return morphology.measures(centroids)
+
+
+def summary(xy, n_wall, fresh=None):
+    """Cell and tissue measures of one state: a dict of cell means, tissue ``A``, ``P``,
+    ``EL`` and, given the ``fresh`` summary, ``A/A0``, ``P/P0``, ``EL/EL0`` and the
+    relative change of the mean cell area and perimeter."""
+    cell = cells(xy, n_wall)
+    out = dict(cells=len(cell["area"]))
+    if len(cell["area"]) >= 3:   # a tissue outline needs three cells
+        t = tissue(cell["centroid"])
+        out.update(A=t["area"], P=t["perimeter"], EL=t["elongation"])
+    out.update(cell_area=float(cell["area"].mean()),
+               cell_perimeter=float(cell["perimeter"].mean()),
+               cell_roundness=float(cell["roundness"].mean()),
+               cell_elongation=float(cell["elongation"].mean()),
+               cell_compactness=float(cell["compactness"].mean()))
+    if fresh is not None and "A" in out:
+        out.update(morphology.normalise(
+            dict(area=t["area"], perimeter=t["perimeter"], elongation=t["elongation"]),
+            dict(area=fresh["A"], perimeter=fresh["P"], elongation=fresh["EL"])))
+    if fresh is not None:
+        out["cell_area/A0"] = out["cell_area"] / fresh["cell_area"]
+        out["cell_perimeter/P0"] = out["cell_perimeter"] / fresh["cell_perimeter"]
+    return out, cell

@@ -1,0 +1,69 @@
+"""Parameters of the fine-scale (MFC) model and the drying levers per level (doc/mfc.md).
+
+The MFC (Karunasena et al., Soft Matter 10, 2014, 5249) resolves every cell: a closed ring
+of wall particles (DEM) around its fluid. Values shared with CGMS (cell diameter, slab
+height, pectin layer, turgor, compression modulus, density, perimeter law, solid ratio)
+come from the CGMS material file, so the two models describe the same tissue; the values
+below are the MFC's own, each with its source or the reason it was chosen (doc/mfc.md,
+"Decisions").
+"""
+
+import math
+
+from . import material
+
+#: the MFC's own parameters (SI units)
+MFC = dict(
+    per_side=16,             # wall particles per hexagon side: 96 per cell (Wijerathne 2019 2.1)
+    wall_Et=330.0,           # wall extensional stiffness E t, N/m: 4.5 % turgid strain
+    wall_thickness=1.0e-6,   # wall thickness t, m (bending k_b = E H t^3 / (12 r0_b))
+    self_E0=1.0e-12,         # wall self-avoidance: 8-4 LJ, repulsive only, E0 = f0/8, J
+    self_r0=3.0e-6,          # its radius (= cutoff), m: below the shortest bond (3.96 um)
+    lamella_E0=1.45e-11,     # middle lamella: 8-4 LJ between walls of adjacent cells, J
+    lamella_rc=12.0e-6,      # its cutoff, m (its radius is the pectin layer d_p)
+    fluid_spacing=5.0e-6,    # SPH fluid lattice, m (656 particles per cell)
+    fluid_margin=3.25e-6,    # fluid points at least this far from every wall line, m
+)
+
+
+def parameters(material_name="apple", **overrides):
+    """The MFC parameters: the CGMS material's shared values plus :data:`MFC`, and the
+    derived fresh wall: turgid strain, rest bond length, bond and angle constants."""
+    p = dict(material.read(material_name))
+    p.update(MFC)
+    p.update(overrides)
+    n = 6 * int(p["per_side"])
+    p["n_wall"] = n
+    # a free turgid cell is a circle of diameter D at P_f: Laplace's law P R = E t eps
+    p["strain_turgid"] = p["P_f"] * p["diameter"] / (2 * p["wall_Et"])
+    p["r0_bond"] = math.pi * p["diameter"] / (1 + p["strain_turgid"]) / n
+    p["k_bond"] = p["wall_Et"] * p["height"] / p["r0_bond"]          # N/m, F = -k (l - r0)
+    p["k_bend"] = p["wall_Et"] * p["height"] * p["wall_thickness"] ** 2 / (12 * p["r0_bond"])
+    p["fluid_mass"] = p["rho0"] * p["A_ref"] * p["height"]            # fresh, per cell (kg)
+    p["wall_mass"] = p["solid_ratio"] * p["fluid_mass"] / n           # per particle, fresh
+    return p
+
+
+def level(p, s):
+    """The three drying levers at dryness s = X/X0 (moisture-domain approach):
+
+    - moisture: the fluid mass is s times the fresh one, so its area at rest density is
+      ``fluid_area = s A0``;
+    - turgor: ``P_T = s P_f`` (linear in fluid mass);
+    - wall contraction: every bond rest length scales with the perimeter law
+      ``l_d / l0' = 1 - (a/b)(1 - s)`` (CGMS eqn 9, a = 0.2, b = 0.9).
+
+    Returns a dict with those and the per-particle wall mass (scaled by s too)."""
+    s = float(s)
+    if not 0 < s <= 1:
+        raise ValueError(f"dryness s = X/X0 must be in (0, 1], got {s!r}")
+    contraction = 1 - p["perim_a"] / p["perim_b"] * (1 - s)
+    return dict(s=s, fluid_area=s * p["A_ref"], turgor=s * p["P_f"],
+                r0_bond=p["r0_bond"] * contraction, contraction=contraction,
+                wall_mass=s * p["wall_mass"])
+
+
+def eos_pressure(p, area, fluid_area, turgor):
+    """Pressure (Pa) of a cell's fluid at rest filling ``area``: CGMS eqn (4),
+    P = P_T + K [(rho/rho0)^7 - 1] with rho/rho0 = fluid_area / area."""
+    return turgor + p["K"] * ((fluid_area / area) ** 7 - 1)

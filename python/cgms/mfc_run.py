@@ -1,0 +1,169 @@
+"""Run the fine-scale (MFC) model in LAMMPS: the fast steady-state variant.
+
+Each cell's fluid is at rest at a steady state, so it is one pressure from the equation
+of state of the area its wall ring encloses (``fix mfc/pressure``, doc/fix_mfc_pressure.rst).
+The walls are LAMMPS's own styles: harmonic bonds (stretching) and angles (bending) along
+each ring, and 8-4 Lennard-Jones (``pair nm/cut``) for the wall's self-avoidance and the
+middle lamella between adjacent cells (types = cell colours, so 1-1, 2-2, 3-3 are own-cell
+pairs and the rest neighbour-cell pairs). The whole model has a potential energy, so a
+steady state is a minimum: ``minimize`` (FIRE) finds it.
+
+Steady-state criterion (doc/mfc.md): the minimiser runs in chunks of ``chunk`` FIRE
+iterations; the state is steady when the largest force component on any wall particle is
+below ``ftol`` (N; the turgor load on a fresh wall particle is about 6e-6 N), or when over
+one chunk no cell centroid moved more than ``shift`` (m) and no cell area changed by more
+than ``area`` (relative). The second test ends the slow coarsening of wrinkles in dried
+walls, which moves neither centroids nor areas.
+
+Drying path (the ramp): the fresh tissue is relaxed first; every later level starts from
+the previous level's steady state and passes through intermediate levels ``stage`` apart
+(one chunk of minimisation each), as a slowly dried tissue would. A jump from s = 1 to 0.8
+in one go starts the fluid at -16 MPa.
+"""
+
+import math
+
+import numpy as np
+
+from .mfc_model import level
+
+DEFAULTS = dict(ftol=1e-10, shift=1e-8, area=1e-4, chunk=2000, stage=0.05,
+                max_iterations=400000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg")
+
+
+def setup_commands(data, p, newton="on", processors=None, boundary="s s p"):
+    """LAMMPS commands that read an MFC wall data file (:func:`cgms.mfc_tissue.write_data`)
+    and define the wall forces; the drying levers follow with :func:`level_commands`."""
+    per = p["self_r0"]
+    lines = [
+        "units si",
+        "dimension 2",
+        f"boundary {boundary}",
+        f"newton {newton}",
+        f"processors {processors} 1 1" if processors else "",
+        "atom_style angle",
+        "atom_modify map array",
+        f"read_data {data}",
+        # bonded neighbours stay in the pair list: the 3 um repulsion acts on crushed bonds
+        "special_bonds lj 1.0 1.0 1.0",
+        "bond_style harmonic",
+        "angle_style harmonic",
+        # LAMMPS's harmonic energies have no 1/2: K = k/2
+        f"angle_coeff 1 {p['k_bend'] / 2:.10g} 180.0",
+        f"pair_style nm/cut {p['lamella_rc']:.10g}",
+        "pair_modify shift yes",
+        # middle lamella: walls of different cells (types = colours) rest d_p apart
+        f"pair_coeff * * {p['lamella_E0']:.10g} {p['pectin']:.10g} 8 4 {p['lamella_rc']:.10g}",
+    ]
+    lines += [f"pair_coeff {t} {t} {p['self_E0']:.10g} {per:.10g} 8 4 {per:.10g}"
+              for t in (1, 2, 3)]
+    lines += [
+        "neighbor 2e-6 bin",
+        "neigh_modify every 1 delay 0 check yes",
+        "fix 2d all enforce2d",
+    ]
+    return [line for line in lines if line]
+
+
+def level_commands(p, s, fix_id="mfc"):
+    """The drying levers at dryness ``s``: bond rest length (wall contraction), the cell
+    fluid's area at rest density and its turgor (``fix mfc/pressure``). Statics do not
+    depend on the wall masses, so they keep their fresh value (FIRE's pace)."""
+    lv = level(p, s)
+    return [
+        f"bond_coeff 1 {p['k_bond'] / 2:.10g} {lv['r0_bond']:.10g}",
+        f"fix {fix_id} all mfc/pressure height {p['height']:.10g} modulus {p['K']:.10g} "
+        f"turgor {lv['turgor']:.10g} area {lv['fluid_area']:.10g}",
+        f"fix_modify {fix_id} energy yes",
+    ]
+
+
+def minimize_commands(ftol, max_iterations, timestep=DEFAULTS["timestep"],
+                      dmax=DEFAULTS["dmax"], style=DEFAULTS["style"]):
+    """Minimise down to the largest force component ``ftol`` (N): conjugate gradients
+    with a quadratic line search (default; measured 10x faster than FIRE on the fresh
+    86-cell tissue, doc/mfc.md) or FIRE, whose time step sets its pace (statics do not
+    depend on the masses). ``dmax`` (m) caps a step's displacement."""
+    line = " line quadratic" if style == "cg" else ""
+    return [f"timestep {timestep:.10g}",
+            f"min_style {style}",
+            f"min_modify norm max dmax {dmax:.10g}{line}",
+            f"minimize 0.0 {ftol:.10g} {int(max_iterations)} {10 * int(max_iterations)}"]
+
+
+def positions(lmp):
+    """Wall particle positions (n, 2) ordered by atom ID (any number of ranks)."""
+    n = lmp.get_natoms()
+    x = np.array(lmp.gather_atoms("x", 1, 3), dtype=float).reshape(n, 3)
+    return x[:, :2]
+
+
+def _cells(lmp, n_wall):
+    """Area centroids and areas of the cells (the polygon measures of cgms.mfc_metrics)."""
+    from .mfc_metrics import cells
+    c = cells(positions(lmp), n_wall)
+    return c["centroid"], c["area"]
+
+
+def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAULTS["area"],
+          chunk=DEFAULTS["chunk"], max_iterations=DEFAULTS["max_iterations"],
+          timestep=DEFAULTS["timestep"], dmax=DEFAULTS["dmax"], style=DEFAULTS["style"]):
+    """Set the levers of ``s`` and minimise to the steady-state criterion (module doc).
+    Returns the iterations, the largest force component left (N), the centroid shift (m)
+    and relative area change of the last chunk, the energy, and ``converged``."""
+    start = lmp.extract_global("ntimestep")
+    lmp.commands_list(level_commands(p, s))
+    centroid, cell_area = _cells(lmp, p["n_wall"])
+    done, now = 0, style
+    while True:
+        before = lmp.extract_global("ntimestep")
+        lmp.commands_list(minimize_commands(ftol, chunk, timestep, dmax, now))
+        done = int(lmp.extract_global("ntimestep") - start)
+        fmax = lmp.get_thermo("fmax")
+        # CG stops early, short of ftol, when its line search fails (the energy is flat to
+        # round-off along the search direction); a FIRE chunk then carries on
+        stalled = fmax > ftol and lmp.extract_global("ntimestep") - before < chunk
+        now = "fire" if stalled else style
+        new_centroid, new_area = _cells(lmp, p["n_wall"])
+        moved = float(np.hypot(*(new_centroid - centroid).T).max())
+        changed = float(np.abs(new_area / cell_area - 1).max())
+        centroid, cell_area = new_centroid, new_area
+        steady = fmax <= ftol or (moved <= shift and changed <= area and not stalled)
+        if steady or done >= max_iterations:
+            break
+    return dict(s=s, iterations=done, fmax=fmax, shift=moved, area_change=changed,
+                converged=bool(steady), energy=lmp.get_thermo("pe"))
+
+
+def stages(s_from, s_to, stage):
+    """Intermediate levels strictly between ``s_from`` and ``s_to``, ``stage`` apart."""
+    if s_from is None or stage <= 0:
+        return []
+    k = int(math.floor((s_from - s_to) / stage - 1e-9))
+    return [s_from - j * stage for j in range(1, k + 1)]
+
+
+def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"], seed=1,
+         **kwargs):
+    """From the steady state at ``s_from`` (None: the built tissue) to that at ``s_to``
+    through the intermediate levels (one chunk of minimisation each). Before each
+    dried level every wall particle is displaced at random by up to ``kick`` (m): a
+    contracted wall held at its circle is a saddle (it must buckle: MFC.md 5.3), which a
+    minimiser started exactly on it never leaves. Returns the final :func:`relax` report
+    with the total iterations."""
+    total = 0
+    levels = stages(s_from, s_to, stage) + [s_to]
+    for k, s in enumerate(levels):
+        if kick and s < 1:
+            lmp.command(f"displace_atoms all random {kick:.10g} {kick:.10g} 0 "
+                        f"{seed + int(round(1e4 * s))} units box")
+        last = k == len(levels) - 1
+        # an intermediate level is one chunk (or less, at 1e3 ftol): a gentle path, not a
+        # steady state (relaxing each to its steady state doubles the 86-cell cost)
+        options = dict(kwargs) if last else dict(
+            kwargs, max_iterations=kwargs.get("chunk", DEFAULTS["chunk"]),
+            ftol=1e3 * kwargs.get("ftol", DEFAULTS["ftol"]))
+        report = relax(lmp, p, s, **options)
+        total += report["iterations"]
+    report["iterations"] = total
+    return report

@@ -1,0 +1,138 @@
+"""The full fine-scale (MFC) model: SPH fluid inside the DEM wall rings (MFC.md 9).
+
+Same walls as the fast variant (:mod:`cgms.mfc_run`, same atom IDs 1..n_cells*n_wall), plus
+656 SPH fluid particles per cell (:func:`cgms.mfc_tissue.fluid_points`), all on LAMMPS's
+own styles: ``atom_style hybrid sph angle``, ``pair sph/taitwater/morris`` (Lucy kernel,
+continuity density, Tait EOS written exactly as CGMS eqn 4), ``pair nm/cut`` for the 8-4 LJ
+forces, ``fix sph`` to integrate, ``fix viscous`` to settle.
+
+Types: walls 1-3 and fluid 4-6 by cell colour (walls first: the SPH style sets a type's
+EOS from the pair_coeff line whose lower type is that type). Fluid particles interact by
+SPH only with their own cell's fluid and wall; every fluid-wall pair also repels at 3 um.
+
+Units are 2-D slab units: densities areal (rho H), pressures and B per length (p H),
+viscosity mu H; masses are real slab masses, so forces are in N.
+"""
+
+import math
+
+import numpy as np
+
+from . import mfc_run, mfc_tissue
+from .mfc_model import level
+
+MU = 1.0e-3          # water viscosity, Pa s
+SUPPORT = 13.0e-6    # Lucy kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
+TAU = 2.0e-7         # damping time of fix viscous, s (2 us: the fresh cell inflates, doc/mfc.md)
+
+
+def tait(p, s):
+    """The EOS of level s in LAMMPS's Tait form: P_T + K[(rho/rho0)^7 - 1] =
+    B[(rho/rho_r)^7 - 1] with B = K - P_T, rho_r = rho0 (1 - P_T/K)^(1/7),
+    c0 = sqrt(7 B / rho_r). Returns areal rho_r H (kg/m^2) and c0 (m/s)."""
+    pt = level(p, s)["turgor"]
+    b = p["K"] - pt
+    rho_r = p["rho0"] * (1 - pt / p["K"]) ** (1 / 7)
+    return rho_r * p["height"], math.sqrt(7 * b / rho_r)
+
+
+def fluid_mass(p):
+    """Fresh fluid particle mass: its lattice cell s_f^2 at the fresh rest density, so
+    that an SPH particle's volume m/rho is the area it occupies."""
+    return tait(p, 1.0)[0] * p["fluid_spacing"] ** 2
+
+
+def write_data(path, centres, p, overwrite=False):
+    """Data file (``atom_style hybrid sph angle``: ``id type x y z rho esph cv mol``) of the
+    fresh tissue: walls as :func:`cgms.mfc_tissue.write_data`, then the fluid."""
+    w = mfc_tissue.walls(centres, p)
+    fluid = [mfc_tissue.fluid_points(c, p, w["angle"]) for c in np.asarray(centres, float)]
+    nf = len(fluid[0])
+    col = w["colour"][:: p["n_wall"]]
+    xy = np.concatenate([w["xy"]] + fluid)
+    ncell, nw = len(centres), len(w["xy"])
+    types = np.concatenate([w["colour"] + 1, np.repeat(col + 4, nf)])
+    mols = np.concatenate([w["cell"] + 1, np.repeat(np.arange(1, ncell + 1), nf)])
+    rho = tait(p, 1.0)[0]
+    margin = 3 * p["x_ref"]
+    lo, hi = xy.min(axis=0) - margin, xy.max(axis=0) + margin
+    ids = np.arange(1, nw + 1)
+    first = w["cell"] * p["n_wall"] + 1
+    nxt = first + (ids - first + 1) % p["n_wall"]
+    prv = first + (ids - first - 1) % p["n_wall"]
+    lines = [f"MFC tissue (SPH): {ncell} cells", "", f"{len(xy)} atoms", f"{nw} bonds",
+             f"{nw} angles", "6 atom types", "1 bond types", "1 angle types", "",
+             f"{lo[0]:.10e} {hi[0]:.10e} xlo xhi", f"{lo[1]:.10e} {hi[1]:.10e} ylo yhi",
+             f"{-margin:.10e} {margin:.10e} zlo zhi", "", "Masses", ""]
+    lines += [f"{t} {p['wall_mass']:.10e}" for t in (1, 2, 3)]
+    lines += [f"{t} {fluid_mass(p):.10e}" for t in (4, 5, 6)]
+    lines += ["", "Atoms # hybrid", ""]
+    lines += [f"{i + 1} {t} {x:.12e} {y:.12e} 0.0 {rho:.10e} 0.0 1.0 {m}"
+              for i, (t, m, (x, y)) in enumerate(zip(types, mols, xy))]
+    lines += ["", "Bonds", ""] + [f"{i} 1 {i} {j}" for i, j in zip(ids, nxt)]
+    lines += ["", "Angles", ""] + [f"{i} 1 {a} {i} {b}" for i, a, b in zip(ids, prv, nxt)]
+    with open(path, "w" if overwrite else "x") as fh:
+        fh.write("\n".join(lines) + "\n")
+    return dict(walls=nw, fluid=ncell * nf)
+
+
+def setup_commands(data, p, newton="on", processors=None):
+    """Read an SPH data file and define every force of MFC.md 9 at the fresh level."""
+    lines = ["units si", "dimension 2", "boundary s s p", f"newton {newton}",
+             f"processors {processors} 1 1" if processors else "",
+             "atom_style hybrid sph angle", "atom_modify map array",
+             "comm_modify vel yes", f"read_data {data}",
+             "group wall type 1 2 3", "group fluid type 4 5 6",
+             "special_bonds lj 1.0 1.0 1.0", "bond_style harmonic", "angle_style harmonic",
+             f"angle_coeff 1 {p['k_bend'] / 2:.10g} 180.0",
+             f"pair_style hybrid/overlay sph/taitwater/morris nm/cut {p['lamella_rc']:.10g}"]
+    rep = f"nm/cut {p['self_E0']:.10g} {p['self_r0']:.10g} 8 4 {p['self_r0']:.10g}"
+    lam = f"nm/cut {p['lamella_E0']:.10g} {p['pectin']:.10g} 8 4 {p['lamella_rc']:.10g}"
+    for i in (1, 2, 3):
+        for j in range(i, 7):
+            if j <= 3:
+                lines.append(f"pair_coeff {i} {j} {rep if i == j else lam}")
+            else:
+                lines.append(f"pair_coeff {i} {j} {rep}")
+    for i in (4, 5, 6):
+        for j in range(i + 1, 7):
+            lines.append(f"pair_coeff {i} {j} none")
+    lines += sph_commands(p, 1.0)
+    lines += ["neighbor 1.5e-6 bin", "neigh_modify every 1 delay 0 check yes",
+              "fix int all sph", "fix 2d all enforce2d"]
+    return [line for line in lines if line]
+
+
+def sph_commands(p, s):
+    """SPH coefficients of level s: the EOS (through rho_r and c0) and the viscosity."""
+    rho, c0 = tait(p, s)
+    coef = f"sph/taitwater/morris {rho:.10g} {c0:.10g} {MU * p['height']:.10g} {SUPPORT:.10g}"
+    return [f"pair_coeff {c} {c + 3} {coef}" for c in (1, 2, 3)] + \
+        [f"pair_coeff {c} {c} {coef}" for c in (4, 5, 6)]
+
+
+def level_commands(p, s):
+    """The levers of level ``s`` (MFC.md 5.2) but the densities (:func:`dry`): masses of
+    fluid and wall, the EOS of s, the contracted wall rest length, the damping of the
+    new masses."""
+    lv = level(p, s)
+    mw, mf = lv["wall_mass"], s * fluid_mass(p)
+    return [f"mass 1*3 {mw:.10g}", f"mass 4*6 {mf:.10g}"] + sph_commands(p, s) + [
+        f"bond_coeff 1 {p['k_bond'] / 2:.10g} {lv['r0_bond']:.10g}",
+        f"fix dw wall viscous {mw / TAU:.10g}", f"fix df fluid viscous {mf / TAU:.10g}"]
+
+
+def dry(lmp, p, s, s_old):
+    """Dry from ``s_old`` to ``s``: masses and densities of fluid and wall scaled by
+    s / s_old together, so SPH volumes m/rho are unchanged and the pressure drops until
+    the cell has contracted to its new fluid mass; then :func:`level_commands`. Works on
+    each rank's own particles (run under mpirun, every rank executes it)."""
+    nlocal = lmp.extract_global("nlocal")
+    rho = lmp.numpy.extract_atom("rho")
+    rho[:nlocal] *= s / s_old
+    lmp.commands_list(level_commands(p, s))
+
+
+def wall_positions(lmp, p):
+    """Wall particle positions (n_cells * n_wall, 2), by atom ID."""
+    return mfc_run.positions(lmp)[: lmp.extract_global("nbonds")]

