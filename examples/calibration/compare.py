@@ -31,10 +31,11 @@ KEYS = ("A/A0", "P/P0", "EL/EL0")
 
 
 def mfc_folder(root, name):
-    """The MFC folder of a tissue; older ``cgms mfc`` runs named it ``Path(name).stem``
-    (``2.0x2.0`` -> ``2.0x2``), which is ambiguous for 1.5x2.0/1.5x2.5 and 2.0x2.0/2.0x2.5,
-    so only the exact name is accepted."""
-    return Path(root) / name
+    """The MFC folder of a tissue: its name, or ``Path(name).stem`` as older ``cgms mfc``
+    runs named it (``2.0x2.5`` -> ``2.0x2``, shared with 2.0x2.0: :func:`compare` checks the
+    cell count)."""
+    exact = Path(root) / name
+    return exact if exact.is_dir() else Path(root) / Path(name).stem
 
 
 def mfc_xy(root, name, s):
@@ -71,8 +72,9 @@ def compare(mfc_root, cgms_roots, tissues=tuple(MICROSCALE), levels=LEVELS):
                 if p is None or p0 is None:
                     missing.append((name, s, label))
                     continue
-                if len(p) != len(q):
-                    raise ValueError(f"{name}: {len(p)} CGMS beads but {len(q)} MFC cells")
+                if len(p) != len(q):   # an old shared MFC folder holds another tissue
+                    missing.append((name, s, f"MFC folder has {len(q)} cells, not {len(p)}"))
+                    continue
                 got = normalised(p, p0)
                 row = dict(tissue=name, beads=len(q), s=s, set=label,
                            rmsd_um=superpose.rmsd(p, q, "rigid") * 1e6)
