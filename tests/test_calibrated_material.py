@@ -29,7 +29,7 @@ def test_header_says_how_it_was_made():
     head = [line for line in text.splitlines() if line.startswith("#")]
     assert head[0].startswith("# DATE:") and "UNITS: si" in head[0]
     joined = " ".join(head)
-    for needed in ("examples/calibration/fit.sh", "commit", "mfc-reference", "RMSD"):
+    for needed in ("examples/calibration/fit.py", "commit", "mfc-reference", "RMSD"):
         assert needed in joined, needed
     # every level the header quotes has its reference centroids in the repository
     quoted = {float(s) for s in re.findall(r"at\s+s\s+=\s+([0-9.]+)", joined)}
