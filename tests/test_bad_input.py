@@ -215,7 +215,7 @@ def test_restart_with_a_corrupt_bead_state(restart):
 
 @pytest.mark.parametrize("field", ["version", "size"])
 def test_restart_from_another_plugin_version(restart, field):
-    """The material record is stored as bytes after a tag, a format version and its size:
+    """The material record is stored after a tag, a format version and its size:
     a file with another version or size (patched here, as a plugin version with other
     parameters would write it) stops with an error instead of being read wrongly. (A file
     of the plugin before k_S, which has no such header, was checked by hand: refused.)"""
@@ -224,7 +224,7 @@ def test_restart_from_another_plugin_version(restart, field):
     start = raw.find(tag)
     assert start > 0 and raw.count(tag) == 1
     version, size = struct.unpack("<ii", raw[start + 4:start + 12])
-    assert version >= 1 and size % 8 == 0 and size > 100  # the record: plain doubles
+    assert version >= 1 and size > 100  # the record: name/value text of the material
     header = (version + 1, size) if field == "version" else (version, size - 8)
     patched = raw[:start] + tag + struct.pack("<ii", *header) + raw[start + 12:]
     (folder / "bad.restart").write_bytes(patched)

@@ -20,8 +20,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, folders, material, mfc_cli, morphology, plots, positions, study,
-               superpose, tissue)
+from . import (calibrate, dry_cli, folders, material, mfc_cli, morphology, pictures, plots,
+               positions, study, superpose, tissue)
 from .fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
@@ -191,8 +191,10 @@ def main_job(args):
             rows += dry(out, name, t, mat_file, mat, args.dryness, args)
         write_summary(rows, out)
         print_table(rows)
-        print(f"\ncgms: table {out}/summary-*.csv; plots {out}/*/curves.png, pressure.png, "
-              f"shrinkage.png; dumps (OVITO) {out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
+        pictures.study_pictures(out)
+        print(f"\ncgms: table {out}/summary-*.csv; plots {out}/curves-all.png, */curves.png, "
+              f"*/cells-*.png, */pressure.png, */shrinkage.png; dumps (OVITO) "
+              f"{out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
     return 0
 
 
@@ -203,6 +205,7 @@ def study_job(args):
         rows = dry(out, "tissue", t, mat_file, mat, args.dryness, args)
         write_summary(rows, out)
         print_table(rows)
+        pictures.study_pictures(out)
         print(f"\ncgms: results in {out}")
     return 0
 
@@ -647,6 +650,8 @@ COMMANDS = {
     "target": ("initial dryness whose steady state reaches X/X0", target_arguments, target_job),
     "tissue": ("build a tissue data file (python3 -m cgms.tissue)", tissue_parser_arguments,
                tissue_job),
+    "dry": ("dry a tissue slice in air over time (doc/drying.md)", dry_cli.add_arguments,
+            dry_cli.job),
 }
 
 

@@ -7,6 +7,7 @@
 #include "atom.h"
 #include "cgms_store.h"
 #include "error.h"
+#include "modify.h"
 
 #include <cstring>
 
@@ -27,16 +28,17 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullp
   bool registered = false;
   for (const auto &item : atom->peratom)
     if (item.name == FIELD) registered = true;
-  if (!registered) atom->add_peratom(FIELD, &CGMS::store(lmp).cgms, Atom::DOUBLE, CGMS::NCOLUMNS);
+  if (!registered) atom->add_peratom(FIELD, &CGMS::bead_array(lmp), Atom::DOUBLE, CGMS::NCOLUMNS);
 
-  // the whole array travels with a bead: its state columns must, and the
-  // derived ones are small enough that splitting them would cost more code
-  // than bytes. Ghosts need the dryness (LJ radius); the per-step coefficient
-  // they need is sent by fix cgms/fluid itself.
+  // the whole array travels with a bead that changes rank: its state columns
+  // must, and the derived ones are small enough that splitting them would cost
+  // more code than bytes. Ghosts get none of it here: the only columns read
+  // for ghosts, the dryness (when it is not uniform) and the pair coefficient,
+  // fix cgms/fluid sends itself when they change (forward communication).
   fields_grow = {"rmass", FIELD};
   fields_copy = {"rmass", FIELD};
-  fields_border = {"rmass", FIELD};
-  fields_border_vel = {"rmass", FIELD};
+  fields_border = {"rmass"};
+  fields_border_vel = {"rmass"};
   fields_exchange = {"rmass", FIELD};
   fields_restart = {"rmass", FIELD};
   fields_create = {"rmass", FIELD};
@@ -44,6 +46,33 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullp
   fields_data_vel = {"id", "v"};
 
   setup_fields();
+}
+
+/* ----------------------------------------------------------------------
+   read_data can hand a data-file section only to a fix that exists before
+   the box, and LAMMPS allows that only for fix property/atom: define one that
+   receives the fluid state section (read_data file fix CGMS NULL CGMS).
+   fix cgms/fluid writes that section and takes the values over at setup.
+------------------------------------------------------------------------- */
+
+void AtomVecCGMS::process_args(int narg, char **arg)
+{
+  AtomVec::process_args(narg, arg);
+  if (modify->get_fix_by_id(CGMS::DATA_FIX)) return;    // atom_style given again
+
+  // fix property/atom records the atom style's name, which Atom::create_avec sets
+  // only after this call returns: lend it the name meanwhile (create_avec then
+  // replaces the pointer without freeing it)
+  static char style_name[] = "cgms";
+  atom->atom_style = style_name;
+  try {
+    modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata no", CGMS::DATA_FIX,
+                                CGMS::DATA_PROPERTY, CGMS::NDATA));
+  } catch (...) {
+    atom->atom_style = nullptr;
+    throw;
+  }
+  atom->atom_style = nullptr;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -60,7 +89,7 @@ void AtomVecCGMS::init()
 void AtomVecCGMS::grow_pointers()
 {
   rmass = atom->rmass;
-  cgms = CGMS::store(lmp).cgms;
+  cgms = CGMS::bead_array(lmp);
 }
 
 /* ----------------------------------------------------------------------

@@ -16,6 +16,7 @@ class AtomVecCGMS : public AtomVec {
  public:
   AtomVecCGMS(class LAMMPS *);
 
+  void process_args(int, char **) override;
   void init() override;
   void grow_pointers() override;
   void create_atom_post(int) override;

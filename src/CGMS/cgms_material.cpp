@@ -36,7 +36,8 @@ const Entry entries[] = {
     {"k_d", &CGMS::Material::k_d, POSITIVE, true},
     {"f0_a", &CGMS::Material::f0_a, POSITIVE, true},
     {"f0_r", &CGMS::Material::f0_r, POSITIVE, true},
-    {"beta_a", &CGMS::Material::beta_a, ANY, true},
+    // beta(1) = beta_a: the periphery factor of a fresh tissue is positive
+    {"beta_a", &CGMS::Material::beta_a, POSITIVE, true},
     {"beta_b", &CGMS::Material::beta_b, ANY, true},
     // lj_slope >= 0 keeps r(s) <= r0, which the neighbour-list cutoff relies on
     {"lj_slope", &CGMS::Material::lj_slope, NONNEGATIVE, true},
@@ -168,6 +169,15 @@ void CGMS::Material::finish(LAMMPS *lmp, const std::string &where)
   l_ref = 6.0 * b_ref;
   x_ref = sqrt(3.0) * b_ref + pectin;
   if (r0 == 0.0) r0 = x_ref;
+}
+
+/* ---------------------------------------------------------------------- */
+
+std::vector<std::pair<std::string, double>> CGMS::Material::parameters() const
+{
+  std::vector<std::pair<std::string, double>> values;
+  for (const auto &e : entries) values.emplace_back(e.name, this->*e.member);
+  return values;
 }
 
 /* ---------------------------------------------------------------------- */

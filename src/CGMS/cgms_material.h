@@ -6,6 +6,8 @@
 #define LMP_CGMS_MATERIAL_H
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -51,6 +53,9 @@ namespace CGMS {
              const std::string &where);
     // check ranges and completeness, derive the reference cell
     void finish(LAMMPS *lmp, const std::string &where);
+
+    // every parameter of the table with its value, in table order (r0 resolved)
+    std::vector<std::pair<std::string, double>> parameters() const;
 
     double beta(double s) const;
     double lj_radius(double s) const;

@@ -25,10 +25,10 @@ const char *const CGMS::column_names[CGMS::NCOLUMNS] = {
    stays valid for the life of the process
 ------------------------------------------------------------------------- */
 
-CGMS::Store &CGMS::store(LAMMPS *lmp)
+double **&CGMS::bead_array(LAMMPS *lmp)
 {
-  static std::map<LAMMPS *, Store> stores;
-  return stores[lmp];
+  static std::map<LAMMPS *, double **> arrays;
+  return arrays[lmp];
 }
 
 /* ---------------------------------------------------------------------- */

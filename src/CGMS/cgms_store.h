@@ -40,28 +40,25 @@ namespace CGMS {
   // per-atom array, in column order.
   extern const char *const column_names[NCOLUMNS];
 
-  // Storage for the per-bead array, one per LAMMPS instance. It must live
-  // outside the AtomVec object: LAMMPS keeps the address of the pointer and
-  // frees through it after the AtomVec is gone (atom_style changes, restarts).
-  struct Store {
-    double **cgms = nullptr;
-    // compact copies of what the per-pair loops touch, so that a neighbour
-    // costs 8 or 16 bytes instead of a 112-byte row: the pair coefficient
-    // (local and ghost beads) and the pass-1 sums (neighbour count, sum of
-    // distances). Owned and grown by fix cgms/fluid.
-    double *coef = nullptr;
-    double *sums = nullptr;
-    int nmax = 0;
-    // the distance x of every entry of the neighbour list (0 beyond the
-    // cutoff), written by fix cgms/fluid's geometry pass and read by the
-    // pair's force loop of the same step when both walk the same list: the
-    // force loop then needs neither a square root nor a cutoff test
-    double *rdist = nullptr;
-    bigint rdist_size = 0;
-    int **rdist_list = nullptr;    // firstneigh of the list rdist follows
-    int rdist_valid = 0;           // set by the fix, cleared by the pair after use
-  };
-  Store &store(LAMMPS *lmp);
+  // The fluid state a data file carries (write_data writes it as the section
+  // DATA_SECTION through fix cgms/fluid; read_data reads it into the per-atom
+  // array DATA_PROPERTY of the fix property/atom DATA_FIX that atom_style cgms
+  // defines, as 'read_data file fix CGMS NULL CGMS'); the other columns are
+  // recomputed at setup from these and the positions
+  constexpr int DATA_COLUMNS[] = {DRYNESS, MF, MS, MF0, L0P, RHO, AREA, DMDT};
+  constexpr int NDATA = sizeof(DATA_COLUMNS) / sizeof(DATA_COLUMNS[0]);
+  constexpr char DATA_SECTION[] = "CGMS";
+  constexpr char DATA_FIX[] = "CGMS";
+  constexpr char DATA_PROPERTY[] = "cgms_data";
+
+  // The pointer to the per-bead array, one per LAMMPS instance. Atom keeps
+  // its address (Atom::add_peratom) and grows, copies and frees the array
+  // through it, also after the AtomVec that registered it is gone (a second
+  // atom_style command, read_restart, atom_style hybrid deleting its
+  // sub-styles): so it cannot be a member of AtomVecCGMS, and LAMMPS's own
+  // styles register members of Atom, which a plugin cannot add. A map keyed
+  // by the instance keeps it alive as long as the process.
+  double **&bead_array(LAMMPS *lmp);
 
   // stop with an ERROR unless the system is what CGMS styles need:
   // units si, dimension 2, atom_style cgms

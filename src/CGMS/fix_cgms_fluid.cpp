@@ -5,15 +5,14 @@
 #include "fix_cgms_fluid.h"
 
 #include "atom.h"
-#include "atom_vec_cgms.h"
 #include "cgms_store.h"
 #include "comm.h"
-#include "domain.h"
 #include "error.h"
 #include "force.h"
 #include "input.h"
 #include "math_const.h"
 #include "memory.h"
+#include "min.h"
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
@@ -46,31 +45,52 @@ static const struct InverseCounts {
 } INV_SQRT3_N;
 
 /* ----------------------------------------------------------------------
-   omega^2 of the turgor stiffness of a bead (see update_fluid_state): its
-   fluid at q^7 = (rho/rho_ref)^7, inertial mass m, sum_k (x_k - d_p) = sum_gap
+   the explicit time-step limits of a bead of inertial mass m with nn
+   neighbours, for the forces that are switched on: relative-velocity damping
+   2 m / (1.5 N k_d), turgor 2 / omega with omega^2 = 56 k_T K q^7 / (m sum_gap)
+   (q = rho/rho_ref, sum_gap = sum_k (x_k - d_p)), cell-shape springs
+   sqrt(m / (2 k_S N)). The per-step checks (fluid_pass) use the *_exceeded
+   forms, which compare without a division; f_ID[5] and the errors the limits.
 ------------------------------------------------------------------------- */
 
-static inline double turgor_omega2(double kT, double K, double q7, double m, double sum_gap)
-{
-  return 56.0 * kT * K * q7 / (m * sum_gap);
-}
+namespace {
+struct StepLimits {
+  double kd, kT, K, kS;
+  double kd_dt, turgor_dt2, shape_dt2;    // at the time step dt
 
-/* ----------------------------------------------------------------------
-   the largest stable time steps of a bead of inertial mass m with nn
-   neighbours (see update_fluid_state, which checks them without divisions):
-   relative-velocity damping 2 m / (1.5 N k_d), cell-shape springs
-   sqrt(m / (2 k_S N)); the turgor limit is 2 / omega
-------------------------------------------------------------------------- */
+  StepLimits(const PairCGMS &pair, double dt) :
+      kd(pair.damping ? pair.material().k_d : 0.0), kT(pair.turgor ? pair.material().k_T : 0.0),
+      K(pair.material().K), kS(pair.material().k_S), kd_dt(1.5 * kd * dt),
+      turgor_dt2(56.0 * kT * K * dt * dt), shape_dt2(2.0 * kS * dt * dt)
+  {
+  }
 
-static inline double damping_dt_limit(double m, double nn, double kd)
-{
-  return 2.0 * m / (1.5 * nn * kd);
-}
+  bool damping_exceeded(double m, double nn) const { return kd_dt * nn > 2.0 * m; }
+  // (omega dt)^2 > bound
+  bool turgor_suspect(double q7, double m, double sum_gap, double bound) const
+  {
+    return turgor_dt2 * q7 > bound * m * sum_gap;
+  }
+  bool shape_exceeded(double m, double nn) const { return shape_dt2 * nn > m; }
 
-static inline double shape_dt_limit(double m, double nn, double kS)
-{
-  return sqrt(m / (2.0 * kS * nn));
-}
+  double damping(double m, double nn) const { return 2.0 * m / (1.5 * nn * kd); }
+  double turgor_omega2(double q7, double m, double sum_gap) const
+  {
+    return 56.0 * kT * K * q7 / (m * sum_gap);
+  }
+  double shape(double m, double nn) const { return sqrt(m / (2.0 * kS * nn)); }
+
+  // the smallest of the limits that apply (HUGE_VAL: none)
+  double smallest(double m, double nn, double q7, double sum_gap) const
+  {
+    double limit = HUGE_VAL;
+    if (kd > 0.0) limit = MIN(limit, damping(m, nn));
+    if (kT > 0.0) limit = MIN(limit, 2.0 / sqrt(turgor_omega2(q7, m, sum_gap)));
+    if (kS > 0.0) limit = MIN(limit, shape(m, nn));
+    return limit;
+  }
+};
+}    // namespace
 
 /* ----------------------------------------------------------------------
    a keyword with two values: 0 for the first, 1 for the second (the error
@@ -94,8 +114,9 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    dryness_changed(0), comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0),
-    vector_step(-1)
+    dryness_changed(0), coef(nullptr), sums(nullptr), nmax_bead(0), rdist(nullptr), rdist_size(0),
+    rdist_list(nullptr), rdist_valid(0), comm_column(COEF), work(nullptr), nmax_work(0),
+    energy_local(0.0), vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -170,8 +191,9 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   peratom_freq = 1;
   comm_forward = 1;
   comm_reverse = 2;
+  wd_section = 1;    // the fluid state travels with write_data
 
-  array_atom = store(lmp).cgms;
+  array_atom = bead_array(lmp);
   atom->add_callback(Atom::GROW);
 }
 
@@ -183,13 +205,23 @@ FixCGMSFluid::~FixCGMSFluid()
   delete[] dryness_var;
   delete[] diameter_var;
   memory->destroy(work);
-  Store &st = store(lmp);
-  memory->destroy(st.coef);
-  memory->destroy(st.sums);
-  memory->destroy(st.rdist);
-  st.nmax = 0;
-  st.rdist_size = 0;
-  st.rdist_valid = 0;
+  memory->destroy(coef);
+  memory->destroy(sums);
+  memory->destroy(rdist);
+}
+
+/* ---------------------------------------------------------------------- */
+
+const double *FixCGMSFluid::distances_for(const NeighList *l) const
+{
+  return rdist_valid && rdist_list == l->firstneigh ? rdist : nullptr;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixCGMSFluid::memory_usage()
+{
+  return sizeof(double) * (3.0 * nmax_bead + (double) rdist_size + nmax_work);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -215,7 +247,54 @@ void FixCGMSFluid::init()
   dryness_ivar = find_variable(dryness_var, "dryness");
   diameter_ivar = find_variable(diameter_var, "diameter");
 
+  // the fluid state is updated once per step in pre_force; rRESPA's inner levels
+  // would compute forces from a state it never prepares
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR,
+               "Fix cgms/fluid does not support run_style {}: CGMS forces have one time scale; "
+               "use run_style verlet",
+               update->integrate_style);
+  if (update->whichflag == 1 && !(update->dt > 0.0))
+    error->all(FLERR,
+               "Fix cgms/fluid requires a positive time step (timestep is {:.6g} s): CGMS "
+               "integrates forward in time",
+               update->dt);
+  if (update->whichflag == 2) limit_minimizer_step();
+
   neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   LAMMPS's default largest move per minimizer step, dmax = 0.1, is meant for
+   Angstroms; in SI units it is 0.1 m, a whole tissue, and the first line
+   search throws the beads apart. A dmax above one cell is never meant for
+   CGMS: bound it to 1 % of the lattice spacing (min_modify dmax sets it).
+------------------------------------------------------------------------- */
+
+namespace {
+struct MinDmax : public LAMMPS_NS::Min {
+  // Min::dmax is protected and has no accessor; a member pointer of a derived
+  // class may read it
+  static double get(LAMMPS_NS::Min *min) { return min->*(&MinDmax::dmax); }
+};
+}    // namespace
+
+void FixCGMSFluid::limit_minimizer_step()
+{
+  if (!update->minimize || !pair) return;
+  const double x_ref = pair->material().x_ref;
+  const double dmax = MinDmax::get(update->minimize);
+  if (dmax <= x_ref) return;
+  std::string value = fmt::format("{:.3g}", 0.01 * x_ref);
+  char key[] = "dmax";
+  char *args[2] = {key, value.data()};
+  update->minimize->modify_params(2, args);
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/fluid: min_modify dmax {:g} m is larger than a cell (x_ref = {:.3g} "
+                   "m; LAMMPS's default 0.1 is meant for Angstroms); minimizing with dmax {} m "
+                   "(set min_modify dmax ~1e-6 to choose it yourself)",
+                   dmax, x_ref, value);
 }
 
 /* ----------------------------------------------------------------------
@@ -245,7 +324,7 @@ void FixCGMSFluid::init_list(int, NeighList *ptr)
 
 void FixCGMSFluid::grow_arrays(int)
 {
-  array_atom = store(lmp).cgms;
+  array_atom = bead_array(lmp);
 }
 
 /* ----------------------------------------------------------------------
@@ -255,22 +334,41 @@ void FixCGMSFluid::grow_arrays(int)
 
 void FixCGMSFluid::setup_pre_force(int)
 {
-  array_atom = store(lmp).cgms;
+  array_atom = bead_array(lmp);
   vector_step = -1;    // the state may have changed between runs at the same step
+  check_setup_input();
+  const bigint loaded = load_data_file_state();
   apply_dryness();
-  initialise_beads();
+  const bigint fresh = initialise_beads();
   update_fluid_state(0);
+  if (fresh > 0 && loaded == 0) warn_if_dried(fresh);
+  setup_done = 1;
 }
 
 void FixCGMSFluid::pre_force(int)
 {
-  if (dryness_every > 0 && update->ntimestep % dryness_every == 0) apply_dryness();
+  if (dryness_every > 0 && update->ntimestep % dryness_every == 0)
+    apply_dryness();
+  else
+    refresh_ghost_dryness();
   update_fluid_state(1);
 }
 
 void FixCGMSFluid::min_pre_force(int)
 {
+  refresh_ghost_dryness();
   update_fluid_state(0);
+}
+
+/* ----------------------------------------------------------------------
+   ghosts carry no CGMS state from the atom style: after a re-neighbouring
+   (new ghosts) send the dryness, which the loops read for ghosts only when
+   it differs between beads
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::refresh_ghost_dryness()
+{
+  if (neighbor->ago == 0 && pair->get_uniform_dryness() <= 0.0) forward(DRYNESS);
 }
 
 /* ----------------------------------------------------------------------
@@ -301,7 +399,7 @@ const double *FixCGMSFluid::per_bead_values(int ivar, double constant)
 
 void FixCGMSFluid::apply_dryness()
 {
-  double **cg = store(lmp).cgms;
+  double **cg = bead_array(lmp);
   const int nlocal = atom->nlocal;
 
   if (!dryness_given) {
@@ -332,8 +430,39 @@ void FixCGMSFluid::apply_dryness()
   double all[2];
   MPI_Allreduce(range, all, 2, MPI_DOUBLE, MPI_MAX, world);
   pair->set_uniform_dryness(-all[0] == all[1] ? all[1] : -1.0);
+  check_dryness_range(-all[0], all[1]);
 
   forward(DRYNESS);
+}
+
+/* ----------------------------------------------------------------------
+   the model's dryness laws hold only where they stay positive: the LJ radius
+   r0 (1 + lj_slope ln s) and the periphery factor beta_a + beta_b ln s. Both
+   are monotonic in s, so the extremes of the range decide.
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_dryness_range(double s_min, double s_max)
+{
+  const Material &mat = pair->material();
+  for (double s : {s_min, s_max}) {
+    if (!(mat.lj_radius(s) > 0.0))
+      error->all(FLERR,
+                 "Fix cgms/fluid: at dryness {:.6g} the LJ radius r0 (1 + lj_slope ln s) = {:.4g} "
+                 "m is not positive; this material (lj_slope {:g}) needs a dryness above "
+                 "exp(-1/lj_slope) = {:.4g}",
+                 s, mat.lj_radius(s), mat.lj_slope, exp(-1.0 / mat.lj_slope));
+    if (pair->periphery && !(mat.beta(s) > 0.0)) {
+      const std::string lowest = mat.beta_b > 0.0
+          ? fmt::format("needs a dryness above exp(-beta_a/beta_b) = {:.4g}",
+                        exp(-mat.beta_a / mat.beta_b))
+          : std::string("gives no positive beta at this dryness; check beta_a and beta_b");
+      error->all(FLERR,
+                 "Fix cgms/fluid: at dryness {:.6g} the periphery factor beta = beta_a + "
+                 "beta_b ln s = {:.4g} is not positive (boundary cells would get a negative "
+                 "side); this material (beta_a {:g}, beta_b {:g}) {}",
+                 s, mat.beta(s), mat.beta_a, mat.beta_b, lowest);
+    }
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -341,19 +470,21 @@ void FixCGMSFluid::apply_dryness()
    reference cell at their dryness (MODEL.md section 3)
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::initialise_beads()
+bigint FixCGMSFluid::initialise_beads()
 {
   const Material &mat = pair->material();
-  double **cg = store(lmp).cgms;
+  double **cg = bead_array(lmp);
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
   const double *diameter =
       per_bead_values(diameter_ivar, diameter_value > 0.0 ? diameter_value : mat.diameter);
 
   int bad = -1;
+  bigint fresh = 0;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
     if (c[MF0] <= 0.0) {
+      fresh++;
       // the reference cell of MODEL.md 3, for this bead's cell diameter
       const double d = diameter[i];
       if (!(d > 0.0) && bad < 0) bad = i;
@@ -374,6 +505,105 @@ void FixCGMSFluid::initialise_beads()
   if (bad >= 0)
     error->one(FLERR, "Fix cgms/fluid: cell diameter {} of bead {} must be > 0", diameter[bad],
                atom->tag[bad]);
+  bigint all = 0;
+  MPI_Allreduce(&fresh, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  return all;
+}
+
+/* ----------------------------------------------------------------------
+   beads without a fluid state take the one a data file brought (read_data
+   ... fix CGMS NULL CGMS); returns how many did, over all ranks
+------------------------------------------------------------------------- */
+
+bigint FixCGMSFluid::load_data_file_state()
+{
+  int flag, cols;
+  const int index = atom->find_custom(DATA_PROPERTY, flag, cols);
+  bigint loaded = 0;
+  if (index >= 0 && flag == 1 && cols == NDATA) {
+    double **data = atom->darray[index];
+    double **cg = bead_array(lmp);
+    int mf0_column = 0;
+    for (int k = 0; k < NDATA; k++)
+      if (DATA_COLUMNS[k] == MF0) mf0_column = k;
+    for (int i = 0; i < atom->nlocal; i++) {
+      if (cg[i][MF0] > 0.0 || !(data[i][mf0_column] > 0.0)) continue;
+      for (int k = 0; k < NDATA; k++) cg[i][DATA_COLUMNS[k]] = data[i][k];
+      data[i][mf0_column] = 0.0;    // taken over: the bead's own state rules from now on
+      loaded++;
+    }
+  }
+  bigint all = 0;
+  MPI_Allreduce(&loaded, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  return all;
+}
+
+/* ----------------------------------------------------------------------
+   a tissue read from a data file without the fluid state starts fresh at
+   its dryness; if its beads sit much closer than the fresh cells they got,
+   it was most likely dried before and written without the state
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::warn_if_dried(bigint fresh)
+{
+  if (!pair->pair_coefficient_needed() && !transfer) return;    // no geometry computed
+  const Material &mat = pair->material();
+  double **cg = bead_array(lmp);
+  // interior beads (six neighbours or more): their side against the reference side
+  double local[2] = {0.0, 0.0}, global[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (cg[i][NNEIGH] < 6.0) continue;
+    const double b_ref = cg[i][L0P] / (6.0 * mat.turgid_ratio);
+    local[0] += cg[i][SIDE] / b_ref;
+    local[1] += 1.0;
+  }
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
+  if (global[1] == 0.0) return;
+  const double ratio = global[0] / global[1];
+  if (ratio < 0.9 && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/fluid: {} beads start from the fresh reference cell, but the "
+                   "cells are {:.0f} % smaller in side than that cell: if this tissue was dried "
+                   "and written by write_data, its fluid state is lost; read the data file "
+                   "with 'read_data FILE fix {} NULL {}' (files written by write_data with "
+                   "fix cgms/fluid defined carry it)",
+                   fresh, 100.0 * (1.0 - ratio), DATA_FIX, DATA_SECTION);
+}
+
+/* ----------------------------------------------------------------------
+   write_data: the section DATA_SECTION, one line "id value ..." per bead with
+   the DATA_COLUMNS of its state, at full precision
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::write_data_section_size(int, int &nx, int &ny)
+{
+  nx = atom->nlocal;
+  ny = NDATA + 1;
+}
+
+void FixCGMSFluid::write_data_section_pack(int, double **buf)
+{
+  double **cg = bead_array(lmp);
+  for (int i = 0; i < atom->nlocal; i++) {
+    buf[i][0] = ubuf(atom->tag[i]).d;
+    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = cg[i][DATA_COLUMNS[k]];
+  }
+}
+
+void FixCGMSFluid::write_data_section_keyword(int, FILE *fp)
+{
+  std::string hint;
+  for (int k = 0; k < NDATA; k++) hint += std::string(" ") + column_names[DATA_COLUMNS[k]];
+  fmt::print(fp, "\n{} # id{}\n\n", DATA_SECTION, hint);
+}
+
+void FixCGMSFluid::write_data_section(int, FILE *fp, int n, double **buf, int)
+{
+  for (int i = 0; i < n; i++) {
+    std::string line = fmt::format("{}", (tagint) ubuf(buf[i][0]).i);
+    for (int k = 1; k <= NDATA; k++) line += fmt::format(" {}", buf[i][k]);
+    fmt::print(fp, "{}\n", line);
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -398,9 +628,26 @@ void FixCGMSFluid::update_fluid_state(int advance)
   // with turgor, perimeter and mass transfer all off nothing reads this state
   if (!pair->pair_coefficient_needed() && !transfer) return;
 
+  geometry_pass();
+  // before the stability checks, which would blame the time step
+  if (update->setupflag) check_setup_geometry();
+  Trouble trouble;
+  fluid_pass(advance, trouble);
+  stop_if_unstable(trouble);
+  if (pair->pair_coefficient_needed()) forward(COEF);
+}
+
+/* ----------------------------------------------------------------------
+   geometry: neighbour count and sum of centre distances of every bead (the
+   compact sums, summed over ranks with newton on), and the distance of every
+   neighbour-list entry for the pair's force loop
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::geometry_pass()
+{
   const Material &mat = pair->material();
   double **x = atom->x;
-  double **cg = store(lmp).cgms;
+  double **cg = bead_array(lmp);
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int newton_pair = force->newton_pair;
@@ -413,26 +660,23 @@ void FixCGMSFluid::update_fluid_state(int advance)
                                                  : cutsq_fixed;
   const int per_pair_cutoff = scaled && !uniform;
 
-  // pass 1: neighbour count and sum of centre distances, in the compact sums
-
-  Store &st = store(lmp);
-  if (atom->nmax > st.nmax) {
-    st.nmax = atom->nmax;
-    memory->destroy(st.coef);
-    memory->destroy(st.sums);
-    memory->create(st.coef, st.nmax, "cgms/fluid:coef");
-    memory->create(st.sums, 2 * st.nmax, "cgms/fluid:sums");
+  if (atom->nmax > nmax_bead) {
+    nmax_bead = atom->nmax;
+    memory->destroy(coef);
+    memory->destroy(sums);
+    memory->create(coef, nmax_bead, "cgms/fluid:coef");
+    memory->create(sums, 2 * nmax_bead, "cgms/fluid:sums");
   }
-  double *sums = st.sums;
-  double *coef = st.coef;
   bigint npairs = 0;
   for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
-  if (npairs > st.rdist_size) {
-    st.rdist_size = npairs + npairs / 4;
-    memory->destroy(st.rdist);
-    memory->create(st.rdist, st.rdist_size, "cgms/fluid:rdist");
+  if (npairs > rdist_size) {
+    rdist_size = npairs + npairs / 4;
+    memory->destroy(rdist);
+    memory->create(rdist, rdist_size, "cgms/fluid:rdist");
   }
-  double *rdist = st.rdist;
+  // local copies: the loops then keep them in registers
+  double *const sums = this->sums;
+  double *const rdist = this->rdist;
   bigint k = 0;
   const int nclear = newton_pair ? nall : nlocal;
   for (int k = 0; k < 2 * nclear; k++) sums[k] = 0.0;
@@ -478,11 +722,24 @@ void FixCGMSFluid::update_fluid_state(int advance)
     sums[2 * i] += n;
     sums[2 * i + 1] += sum;
   }
-  st.rdist_list = list->firstneigh;
-  st.rdist_valid = 1;
+  rdist_list = list->firstneigh;
+  rdist_valid = 1;
   if (newton_pair) comm->reverse_comm(this);
+}
 
-  // pass 2: per-bead fluid state. Divisions are the cost here: constants
+/* ----------------------------------------------------------------------
+   fluid state of every local bead: eqns (10-11), density, eqn (4), eqn (9),
+   eqn (7), the pair coefficient, the quasi-static energy, and the beads that
+   break a stability limit (stop_if_unstable() reports them)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
+{
+  const Material &mat = pair->material();
+  double **cg = bead_array(lmp);
+  const int nlocal = atom->nlocal;
+
+  // Divisions are the cost here: constants
   // are hoisted, quantities that depend only on the dryness are recomputed
   // when it changes from one bead to the next, and one reciprocal of the
   // area serves the density and the implicit mass update.
@@ -496,7 +753,6 @@ void FixCGMSFluid::update_fluid_state(int advance)
   const double conductance = mat.height * mat.L_p;    // membrane area l h times L_p, per l
   const double L_p = mat.L_p;
   const double perim_slope = mat.perim_a / mat.perim_b;
-  const double kd_dt = pair->damping ? 1.5 * mat.k_d * dt : 0.0;
   const int advance_mass = advance && transfer;
   // the quasi-static solve: under minimize every bead holds the pressure of
   // the steady state, P = -Pi (MODEL.md 8), its density from eqn (4) and the
@@ -504,13 +760,12 @@ void FixCGMSFluid::update_fluid_state(int advance)
   const int balance = always_balance || (minimize_balance && update->whichflag == 2);
   double *rmass = atom->rmass;
   const int turgor_check = kT > 0.0 && !balance;
-  const double turgor_dt2 = 56.0 * kT * K * dt * dt;
   // right after a change of dryness, beads keep the fluid of the old level against the
   // reference of the new one: a large change compresses them at once, the pressure
   // spikes, and a step with omega dt > 2 blows up (s from 1 to 0.5: omega dt 2.7 for a
   // bead with one neighbour). There the strict explicit limit applies (see below).
   const double turgor_bound = dryness_changed ? 4.0 : 16.0;    // (omega dt)^2
-  const int after_change = dryness_changed;
+  trouble.after_change = dryness_changed;
   dryness_changed = 0;
   // the cell-shape term is a spring network of stiffness about 2 k_S per pair: omega^2
   // up to 8 k_S N / m, so the explicit step needs 2 k_S N dt^2 < m (the largest stable
@@ -519,13 +774,21 @@ void FixCGMSFluid::update_fluid_state(int advance)
   const int shape_check = kS > 0.0 && !balance;
   // its energy is needed only where LAMMPS tallies energies (a second walk over the list)
   const int shape_energy = kS > 0.0 && (balance || update->eflag_global == update->ntimestep);
-  const double shape_dt2 = 2.0 * kS * dt * dt;
+  const StepLimits limits(*pair, dt);
+  // found beads in locals (registers) during the loop, into trouble after it
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
+  int fresh = -1;
   double stiff_ratio = 0.0, stiff_limit = 0.0;
+  const double *const sums = this->sums;
+  double *const coef = this->coef;
 
   double s_prev = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
+    if (c[MF0] <= 0.0) {
+      if (fresh < 0) fresh = i;
+      continue;
+    }
 
     // mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
     if (advance_mass) {
@@ -631,8 +894,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
     if (turgor_check && nn > 0.0) {
       // (omega dt)^2 > 16 without a division in the common case
       const double sum_gap = sums[2 * i + 1] - nn * pectin;
-      if (turgor_dt2 * q7 > turgor_bound * rmass[i] * sum_gap) {
-        const double omega2 = turgor_omega2(kT, K, q7, rmass[i], sum_gap);
+      if (limits.turgor_suspect(q7, rmass[i], sum_gap, turgor_bound)) {
+        const double omega2 = limits.turgor_omega2(q7, rmass[i], sum_gap);
         const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
         if (ratio > stiff_ratio) {
           stiff = i;
@@ -641,27 +904,52 @@ void FixCGMSFluid::update_fluid_state(int advance)
         }
       }
     }
-    if (shape_check && shape_dt2 * nn > rmass[i] &&
+    if (shape_check && limits.shape_exceeded(rmass[i], nn) &&
         (shaky < 0 || rmass[i] * cg[shaky][NNEIGH] < rmass[shaky] * nn))
       shaky = i;
     // damping stability (see damping_limit_error): the smallest m / N fails first
-    if (kd_dt * nn > 2.0 * rmass[i] &&
+    if (limits.damping_exceeded(rmass[i], nn) &&
         (unstable < 0 || rmass[i] * cg[unstable][NNEIGH] < rmass[unstable] * nn))
       unstable = i;
   }
 
   if (shape_energy) energy_local += shape_pair_energy(kS);
 
+  trouble.isolated = isolated;
+  trouble.nonfinite = nonfinite;
+  trouble.emptied = emptied;
+  trouble.unstable = unstable;
+  trouble.stiff = stiff;
+  trouble.shaky = shaky;
+  trouble.fresh = fresh;
+  trouble.stiff_ratio = stiff_ratio;
+  trouble.stiff_limit = stiff_limit;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSFluid::stop_if_unstable(const Trouble &t)
+{
+  const Material &mat = pair->material();
+  double **cg = bead_array(lmp);
+  const double *rmass = atom->rmass;
+  const double dt = update->dt;
+  const int fresh = t.fresh, emptied = t.emptied, isolated = t.isolated;
+  const int nonfinite = t.nonfinite, unstable = t.unstable, shaky = t.shaky, stiff = t.stiff;
+
+  if (fresh >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} appeared during the run at step {} (e.g. from fix "
+               "deposit or fix pour) and has no fluid state: CGMS gives beads their state at "
+               "setup; add beads between runs (create_atoms, then run)",
+               atom->tag[fresh], update->ntimestep);
+
   if (emptied >= 0)
     error->one(FLERR,
                "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
                "unstable; reduce the time step (now {:.6g} s)",
                atom->tag[emptied], cg[emptied][MF], update->ntimestep, dt);
-  if (isolated >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use "
-               "'isolated allow' to give isolated beads the reference cell)",
-               atom->tag[isolated]);
+  if (isolated >= 0) isolated_error(isolated);
   if (nonfinite >= 0)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has a non-finite pressure at step {}: the simulation "
@@ -673,9 +961,10 @@ void FixCGMSFluid::update_fluid_state(int advance)
                "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the cell-shape "
                "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
                "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
-               dt, kS, update->ntimestep, shape_dt_limit(rmass[shaky], cg[shaky][NNEIGH], kS),
-               atom->tag[shaky], rmass[shaky], cg[shaky][NNEIGH]);
-  if (stiff >= 0 && after_change)
+               dt, mat.k_S, update->ntimestep,
+               StepLimits(*pair, dt).shape(rmass[shaky], cg[shaky][NNEIGH]), atom->tag[shaky],
+               rmass[shaky], cg[shaky][NNEIGH]);
+  if (stiff >= 0 && t.after_change)
     error->one(FLERR,
                "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
                "times its new reference density, and its turgor force is then above the "
@@ -683,8 +972,8 @@ void FixCGMSFluid::update_fluid_state(int advance)
                "s): change the dryness in smaller steps (e.g. a ramp with 'every'), or use a "
                "smaller timestep",
                update->ntimestep, atom->tag[stiff],
-               cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0), stiff_limit,
-               2.0 * sqrt(stiff_ratio), dt);
+               cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0), t.stiff_limit,
+               2.0 * sqrt(t.stiff_ratio), dt);
   if (stiff >= 0)
     error->one(
         FLERR,
@@ -692,10 +981,141 @@ void FixCGMSFluid::update_fluid_state(int advance)
         "force at step {}, about {:.4g} s = 2 / omega (omega dt = {:.3g}) for bead {}, whose "
         "fluid is compressed to {:.4g} times its reference density: use a smaller "
         "timestep",
-        dt, update->ntimestep, stiff_limit, 2.0 * sqrt(stiff_ratio), atom->tag[stiff],
+        dt, update->ntimestep, t.stiff_limit, 2.0 * sqrt(t.stiff_ratio), atom->tag[stiff],
         cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0));
+}
 
-  if (pair->pair_coefficient_needed()) forward(COEF);
+/* ----------------------------------------------------------------------
+   positions and velocities come from the user (data file, set, velocity):
+   a non-finite one would surface later as a pressure or time-step error
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_setup_input()
+{
+  double **x = atom->x;
+  double **v = atom->v;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    for (int d = 0; d < 2; d++) {
+      if (!std::isfinite(x[i][d]))
+        error->one(FLERR, "Fix cgms/fluid: bead {} has a non-finite position ({} = {}) at setup",
+                   atom->tag[i], d ? "y" : "x", x[i][d]);
+      if (!std::isfinite(v[i][d]))
+        error->one(FLERR,
+                   "Fix cgms/fluid: bead {} has a non-finite velocity (v{} = {}) at setup; "
+                   "check the data file's Velocities section and any set or velocity command",
+                   atom->tag[i], d ? "y" : "x", v[i][d]);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   what a user's tissue can get wrong from the start, seen at setup where it
+   can be named: two beads closer than the pectin layer (their cell side
+   would be negative), and far more neighbours than a hexagonal tissue has
+   (the cutoff or the spacing does not fit the material)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_setup_geometry()
+{
+  const Material &mat = pair->material();
+  double **x = atom->x;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+
+  // the closest pair of this rank's list
+  double closest = HUGE_VAL;
+  int ci = -1, cj = -1;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double dx = x[i][0] - x[j][0];
+      const double dy = x[i][1] - x[j][1];
+      const double rsq = dx * dx + dy * dy;
+      if (rsq < closest) {
+        closest = rsq;
+        ci = i;
+        cj = j;
+      }
+    }
+  }
+  closest = sqrt(closest);
+  // a hexagonal tissue has 6 neighbours and 12 within its second shell
+  int crowded = -1;
+  for (int i = 0; i < nlocal; i++)
+    if (sums[2 * i] > 12.0 && (crowded < 0 || sums[2 * i] > sums[2 * crowded])) crowded = i;
+  if (crowded >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff at setup, "
+               "where a hexagonal tissue has 6: the cutoff ({:.4g} m) does not fit the bead "
+               "spacing of this tissue (nearest beads {:.4g} m apart here; the material's "
+               "lattice spacing x_ref = sqrt(3) b_ref + d_p = {:.4g} m). Check pair_style "
+               "cutoff, the material's diameter and pectin, and the data file's units",
+               tag[crowded], sums[2 * crowded], pair->cutoff(), closest, mat.x_ref);
+
+  if (closest <= mat.pectin)
+    error->one(FLERR,
+               "Fix cgms/fluid: beads {} and {} are {:.4g} m apart at setup, {} the pectin "
+               "layer d_p = {:.4g} m that separates two cells (lattice spacing x_ref = {:.4g} "
+               "m): check the data file for overlapping or duplicated beads",
+               tag[ci], tag[cj], closest,
+               closest == 0.0 ? "at the same position, inside" : "closer than", mat.pectin,
+               mat.x_ref);
+}
+
+/* ----------------------------------------------------------------------
+   a bead without neighbours: say how far its nearest bead is, and whether
+   the dryness-scaled cutoff shrank below the spacing (low dryness)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::isolated_error(int i)
+{
+  const Material &mat = pair->material();
+  double **x = atom->x;
+  const double s = bead_array(lmp)[i][DRYNESS];
+  double nearest = HUGE_VAL;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int a = list->ilist[ii];
+    const int *jlist = list->firstneigh[a];
+    for (int jj = 0; jj < list->numneigh[a]; jj++) {
+      const int b = jlist[jj] & NEIGHMASK;
+      if (a != i && b != i) continue;
+      const double dx = x[a][0] - x[b][0];
+      const double dy = x[a][1] - x[b][1];
+      nearest = MIN(nearest, sqrt(dx * dx + dy * dy));
+    }
+  }
+  const std::string where = nearest < HUGE_VAL
+      ? fmt::format("its nearest bead is {:.4g} m away", nearest)
+      : std::string("no bead lies within the cutoff plus the neighbor skin");
+  std::string why;
+  const double rad = mat.lj_radius(s);
+  const double cut = sqrt(pair->pair_cutsq(rad));
+  // a scaled cutoff that has shrunk to about the fresh spacing (jittered tissues
+  // have neighbours up to 15 % beyond x_ref)
+  if (pair->cutoff_scaled() && cut < 1.15 * mat.x_ref) {
+    // a fresh tissue (spacing x_ref) keeps its neighbours while cut(s) > x_ref
+    const double fresh_lowest =
+        exp((mat.x_ref / sqrt(pair->pair_cutsq(mat.r0)) - 1.0) / mat.lj_slope);
+    why = fmt::format(
+        "; at dryness {:.4g} the cutoff is {:.4g} m (cutoff/lj times the LJ radius r0 (1 + "
+        "lj_slope ln s) = {:.4g} m), which shrinks with the dryness faster than a tissue "
+        "that has not dried yet (a fresh tissue keeps its neighbours down to a dryness of "
+        "about {:.3g}): start from a tissue dried closer to this level, or lower the dryness "
+        "gradually (a variable ramp with 'every')",
+        s, cut, rad, fresh_lowest);
+  } else if (update->whichflag == 2) {
+    why = fmt::format("; the minimizer moved it away from the tissue (cutoff {:.4g} m): use "
+                      "min_style fire or cg with min_modify dmax ~1e-6, which move beads in "
+                      "small steps",
+                      cut);
+  }
+  error->one(FLERR,
+             "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use 'isolated "
+             "allow' to give isolated beads the reference cell) at step {}: {}{}",
+             atom->tag[i], update->ntimestep, where, why);
 }
 
 /* ----------------------------------------------------------------------
@@ -711,11 +1131,19 @@ void FixCGMSFluid::update_fluid_state(int advance)
 void FixCGMSFluid::damping_limit_error(int i)
 {
   const double m = atom->rmass[i];
-  const double nn = store(lmp).cgms[i][NNEIGH];
+  const double nn = bead_array(lmp)[i][NNEIGH];
   // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
   // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
   // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does
   const double kS = pair->material().k_S;
+  if (nn > 6.0 && update->setupflag)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff ({:.4g} m) "
+               "at setup, more than the 6 of a hexagonal tissue, and the damping is unstable "
+               "with them at dt = {:.4g} s: the cutoff does not fit the bead spacing (material "
+               "lattice spacing x_ref = {:.4g} m); check pair_style cutoff, the material's "
+               "diameter and pectin, and the data file",
+               atom->tag[i], nn, pair->cutoff(), update->dt, pair->material().x_ref);
   if (nn > 6.0)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has {:g} neighbours within the cutoff at step {}, more "
@@ -731,7 +1159,7 @@ void FixCGMSFluid::damping_limit_error(int i)
              "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
              "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
              "use a smaller timestep{}",
-             update->dt, update->ntimestep, damping_dt_limit(m, nn, pair->material().k_d),
+             update->dt, update->ntimestep, StepLimits(*pair, update->dt).damping(m, nn),
              atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
 }
 
@@ -742,7 +1170,6 @@ double FixCGMSFluid::shape_pair_energy(double kS) const
   // sum over neighbour pairs of k_S x^2 (x counted once from each end), from the
   // distances pass 1 cached per entry of the half list (0: beyond the cutoff);
   // without newton_pair a pair with a ghost is in the lists of both of its ranks
-  const double *rdist = store(lmp).rdist;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   double energy = 0.0;
@@ -780,6 +1207,13 @@ double FixCGMSFluid::compute_scalar()
 
 double FixCGMSFluid::compute_vector(int n)
 {
+  // the outputs summarise the state this instance computes at setup; before
+  // that (no run yet, or the fix was just defined again) there is none
+  if (!setup_done)
+    error->all(FLERR,
+               "Fix cgms/fluid {}: its global outputs f_{}[1-5] exist only after this fix "
+               "has been set up by a run: use them after 'run 0' or a run",
+               id, id);
   if (vector_step != update->ntimestep) refresh_vector();
   return vector_cache[n];
 }
@@ -787,31 +1221,23 @@ double FixCGMSFluid::compute_vector(int n)
 void FixCGMSFluid::refresh_vector()
 {
   const Material &mat = pair->material();
-  double **cg = store(lmp).cgms;
+  double **cg = bead_array(lmp);
   double **v = atom->v;
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
 
-  // the explicit stability limits of update_fluid_state (damping, turgor, cell shape),
-  // from the neighbour sums of its last geometry pass; reduced as rates 1/dt^2
-  const double kd = pair->damping ? mat.k_d : 0.0;
-  const double kT = pair->turgor ? mat.k_T : 0.0;
-  const double *sums = store(lmp).sums;
+  // the explicit stability limits of the fluid pass (damping, turgor, cell shape),
+  // from the neighbour sums of the last geometry pass; reduced as rates 1/dt^2
+  const StepLimits limits(*pair, update->dt);
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   for (int i = 0; i < nlocal; i++) {
     const double *c = cg[i];
     local_max[0] = MAX(local_max[0], fabs(c[PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = c[NNEIGH];
     if (nn > 0.0 && sums) {
-      double limit = HUGE_VAL;
-      if (kd > 0.0) limit = MIN(limit, damping_dt_limit(rmass[i], nn, kd));
-      if (kT > 0.0) {
-        const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
-        const double q7 = q * q * q * q * q * q * q;
-        const double sum_gap = sums[2 * i + 1] - nn * mat.pectin;
-        limit = MIN(limit, 2.0 / sqrt(turgor_omega2(kT, mat.K, q7, rmass[i], sum_gap)));
-      }
-      if (mat.k_S > 0.0) limit = MIN(limit, shape_dt_limit(rmass[i], nn, mat.k_S));
+      const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
+      const double q7 = q * q * q * q * q * q * q;
+      const double limit = limits.smallest(rmass[i], nn, q7, sums[2 * i + 1] - nn * mat.pectin);
       local_max[2] = MAX(local_max[2], 1.0 / (limit * limit));
     }
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
@@ -843,10 +1269,9 @@ void FixCGMSFluid::forward(int column)
 int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
   if (comm_column == COEF) {
-    const double *coef = store(lmp).coef;
     for (int i = 0; i < n; i++) buf[i] = coef[list[i]];
   } else {
-    double **cg = store(lmp).cgms;
+    double **cg = bead_array(lmp);
     for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
   }
   return n;
@@ -855,24 +1280,21 @@ int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
 {
   if (comm_column == COEF) {
-    double *coef = store(lmp).coef;
     for (int i = 0; i < n; i++) coef[first + i] = buf[i];
   } else {
-    double **cg = store(lmp).cgms;
+    double **cg = bead_array(lmp);
     for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
   }
 }
 
 int FixCGMSFluid::pack_reverse_comm(int n, int first, double *buf)
 {
-  const double *sums = store(lmp).sums;
   for (int m = 0; m < 2 * n; m++) buf[m] = sums[2 * first + m];
   return 2 * n;
 }
 
 void FixCGMSFluid::unpack_reverse_comm(int n, int *list, double *buf)
 {
-  double *sums = store(lmp).sums;
   for (int i = 0; i < n; i++) {
     sums[2 * list[i]] += buf[2 * i];
     sums[2 * list[i] + 1] += buf[2 * i + 1];

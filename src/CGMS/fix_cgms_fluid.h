@@ -28,6 +28,23 @@ class FixCGMSFluid : public Fix {
   double compute_vector(int) override;
   void grow_arrays(int) override;
 
+  void write_data_section_size(int, int &, int &) override;
+  void write_data_section_pack(int, double **) override;
+  void write_data_section_keyword(int, FILE *) override;
+  void write_data_section(int, FILE *, int, double **, int) override;
+
+  double memory_usage() override;
+
+  // The contract with pair_style cgms, which reads each step: the pair
+  // coefficient of every bead (local and ghost), and the distance of every
+  // entry of the neighbour list the force loop walks, when this fix's geometry
+  // pass walked that very list in this step (nullptr otherwise; 0 marks an
+  // entry beyond the cutoff). The force loop then needs neither a square root
+  // nor a cutoff test; it calls distances_used() when done.
+  const double *pair_coefficients() const { return coef; }
+  const double *distances_for(const class NeighList *) const;
+  void distances_used() { rdist_valid = 0; }
+
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
   int pack_reverse_comm(int, int, double *) override;
@@ -54,6 +71,16 @@ class FixCGMSFluid : public Fix {
   int allow_isolated;       // a bead without neighbours: error (0) or reference cell (1)
   int dryness_changed;      // a bead with a fluid state got a new dryness since the last pass
 
+  // compact per-bead copies of what the per-pair loops touch, so that a
+  // neighbour costs 8 or 16 bytes instead of a 112-byte row
+  double *coef;     // pair coefficient (local and ghost beads)
+  double *sums;     // geometry pass: neighbour count, sum of distances (2 per bead)
+  int nmax_bead;    // length of coef (sums: twice that)
+  double *rdist;    // distance per neighbour-list entry (see distances_for)
+  bigint rdist_size;
+  int **rdist_list;    // firstneigh of the list rdist follows
+  int rdist_valid;     // set by the geometry pass, cleared by the pair after use
+
   int comm_column;    // column sent by forward communication
   double *work;       // per-bead values of a keyword (dryness, diameter)
   int nmax_work;
@@ -62,15 +89,35 @@ class FixCGMSFluid : public Fix {
 
   bigint vector_step;    // step of the cached global outputs
   double vector_cache[5];
+  int setup_done;    // this instance has computed the state once (global outputs valid)
 
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
   const double *per_bead_values(int, double);
   double shape_pair_energy(double) const;
   void apply_dryness();
-  void initialise_beads();
+  void refresh_ghost_dryness();
+  bigint load_data_file_state();
+  bigint initialise_beads();
+  void warn_if_dried(bigint);
+  // the beads a fluid pass found beyond a limit (-1: none), first of each kind
+  struct Trouble {
+    int fresh = -1, emptied = -1, isolated = -1, nonfinite = -1, unstable = -1, shaky = -1;
+    int stiff = -1;    // the worst turgor case, with:
+    double stiff_ratio = 0.0, stiff_limit = 0.0;
+    int after_change = 0;    // right after a change of dryness
+  };
+
   void update_fluid_state(int advance);
+  void geometry_pass();
+  void fluid_pass(int advance, Trouble &);
+  void stop_if_unstable(const Trouble &);
   void damping_limit_error(int);
+  void limit_minimizer_step();
+  void check_dryness_range(double, double);
+  void check_setup_input();
+  void check_setup_geometry();
+  void isolated_error(int);
   void forward(int column);
   void refresh_vector();
 };

@@ -5,12 +5,12 @@
 #include "pair_cgms.h"
 
 #include "atom.h"
-#include "atom_vec_cgms.h"
 #include "cgms_store.h"
 #include "comm.h"
-#include "domain.h"
 #include "error.h"
+#include "fix_cgms_fluid.h"
 #include "force.h"
+#include "input.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -34,7 +34,8 @@ enum { LJ_REPULSION = 1, LJ_ATTRACTION = 2 };
 
 PairCGMS::PairCGMS(LAMMPS *lmp) :
     Pair(lmp), turgor(1), perimeter(1), periphery(1), damping(1), repulsion(1), attraction(1),
-    cut_user(0.0), cut_factor(CUTOFF_FACTOR), cut_scaled(1), cut_global(0.0), uniform_dryness(-1.0)
+    cut_user(0.0), cut_factor(CUTOFF_FACTOR), cut_scaled(1), cut_global(0.0), uniform_dryness(-1.0),
+    fluid(nullptr)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -122,6 +123,8 @@ void PairCGMS::coeff(int narg, char **arg)
   if (!allocated) allocate();
 
   mat = CGMS::Material();
+  coeff_line = "* *";
+  for (int iarg = 2; iarg < narg; iarg++) coeff_line += std::string(" ") + arg[iarg];
   mat.read_file(lmp, arg[2]);
   for (int iarg = 3; iarg < narg; iarg += 2) mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
   mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
@@ -135,10 +138,18 @@ void PairCGMS::coeff(int narg, char **arg)
 void PairCGMS::init_style()
 {
   CGMS::require_cgms_system(lmp, "Pair style cgms");
-  if (modify->get_fix_by_style("^cgms/fluid$").empty())
+  // fix cgms/fluid prepares the per-bead state once per step, for one force level
+  if (utils::strmatch(update->integrate_style, "^respa"))
+    error->all(FLERR,
+               "Pair style cgms does not support run_style {}: CGMS forces have one time "
+               "scale; use run_style verlet",
+               update->integrate_style);
+  const auto fixes = modify->get_fix_by_style("^cgms/fluid$");
+  if (fixes.empty())
     error->all(FLERR,
                "Pair style cgms requires fix cgms/fluid: it computes the virtual-cell geometry, "
                "pressure and dryness the forces use");
+  fluid = dynamic_cast<FixCGMSFluid *>(fixes.front());
   if (damping && !comm->ghost_velocity)
     error->all(FLERR,
                "Pair style cgms with damping requires 'comm_modify vel yes' (ghost velocities)");
@@ -159,7 +170,30 @@ void PairCGMS::init_style()
                    "'neighbor {:.2g} bin' is a good choice",
                    neighbor->skin, mat.x_ref, 0.1 * mat.x_ref);
 
+  // the material comes from a file (one_coeff), which LAMMPS data files cannot
+  // hold: no Pair Coeffs section in write_data, so that data files stay readable
+  // before pair_style; but write_coeff, which LAMMPS offers only through this
+  // flag, does get the full pair_coeff line (write_data_all)
+  writedata = input->command && strcmp(input->command, "write_coeff") == 0;
+
   neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   the pair_coeff line as it was given (material file and overrides)
+------------------------------------------------------------------------- */
+
+void PairCGMS::write_data_all(FILE *fp)
+{
+  if (coeff_line.empty())
+    error->one(FLERR, "Pair cgms: write_coeff needs the pair_coeff line, which is not known");
+  // write_coeff reads lines back through a 256-character buffer
+  if (coeff_line.size() > 240)
+    error->one(FLERR,
+               "Pair cgms: the pair_coeff line ({} characters) is too long for write_coeff, "
+               "which handles up to 240; put the overrides into a material file",
+               coeff_line.size());
+  fmt::print(fp, "{}\n", coeff_line);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -214,12 +248,11 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   double **x = atom->x;
   double **v = atom->v;
   double **f = atom->f;
-  CGMS::Store &st = CGMS::store(lmp);
-  double **cg = st.cgms;
-  const double *coef = st.coef;
+  double **cg = CGMS::bead_array(lmp);
+  const double *coef = fluid->pair_coefficients();
   // x per list entry from fix cgms/fluid, when it walked this very list
-  const int cached = st.rdist_valid && st.rdist_list == list->firstneigh;
-  const double *rdist = st.rdist;
+  const double *rdist = fluid->distances_for(list);
+  const int cached = rdist != nullptr;
   bigint k = 0;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
@@ -327,7 +360,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     f[i][1] += fytmp;
   }
 
-  st.rdist_valid = 0;    // the next force call needs a fresh geometry pass
+  fluid->distances_used();    // the next force call needs a fresh geometry pass
   if (vflag_fdotr) virial_fdotr_compute();
 }
 
@@ -362,22 +395,28 @@ void PairCGMS::read_restart_settings(FILE *fp)
 }
 
 /* ----------------------------------------------------------------------
-   the material is plain doubles: store it as bytes, after a tag, a format
-   version and the record's size, so that a restart file of a plugin version
-   with other parameters stops with an error instead of being read wrongly
+   the material record: a tag, a format version and the size of a text of
+   "name value" lines, one per parameter of the material table, then the
+   pair_coeff arguments and "end". A restart file of another plugin version
+   (other parameters, or the raw struct bytes of format 1) stops with an
+   error instead of being read wrongly; values are printed so that they read
+   back to the same double.
 ------------------------------------------------------------------------- */
 
 static constexpr int MATERIAL_RECORD_TAG = 0x43474d53;    // "CGMS"
-// raise this whenever the fields of CGMS::Material change (1: k_S added)
-static constexpr int MATERIAL_RECORD_VERSION = 1;
+// raise this whenever the layout of the record changes (2: name/value text)
+static constexpr int MATERIAL_RECORD_VERSION = 2;
 
 void PairCGMS::write_restart(FILE *fp)
 {
   write_restart_settings(fp);
+  std::string text;
+  for (const auto &p : mat.parameters()) text += fmt::format("{} {}\n", p.first, p.second);
+  text += "pair_coeff " + coeff_line + "\nend\n";
   const int header[3] = {MATERIAL_RECORD_TAG, MATERIAL_RECORD_VERSION,
-                         static_cast<int>(sizeof(mat))};
+                         static_cast<int>(text.size())};
   fwrite(header, sizeof(int), 3, fp);
-  fwrite(&mat, sizeof(mat), 1, fp);
+  fwrite(text.data(), 1, text.size(), fp);
 }
 
 void PairCGMS::read_restart(FILE *fp)
@@ -387,17 +426,48 @@ void PairCGMS::read_restart(FILE *fp)
   int header[3] = {0, 0, 0};
   if (comm->me == 0) utils::sfread(FLERR, header, sizeof(int), 3, fp, nullptr, error);
   MPI_Bcast(header, 3, MPI_INT, 0, world);
-  if (header[0] != MATERIAL_RECORD_TAG || header[1] != MATERIAL_RECORD_VERSION ||
-      header[2] != static_cast<int>(sizeof(mat)))
+  const auto refuse = [&]() {
     error->all(FLERR,
                "Pair cgms: this restart file was written by another version of the CGMS "
-               "plugin (its material record does not match this version's: format {}, {} "
-               "bytes); start from a data file, or read it with the plugin that wrote it",
-               MATERIAL_RECORD_VERSION, sizeof(mat));
-  if (comm->me == 0) utils::sfread(FLERR, &mat, sizeof(mat), 1, fp, nullptr, error);
-  MPI_Bcast(&mat, sizeof(mat), MPI_BYTE, 0, world);
+               "plugin (its material record does not match this version's format {}); start "
+               "from a data file, or read it with the plugin that wrote it",
+               MATERIAL_RECORD_VERSION);
+  };
+  if (header[0] != MATERIAL_RECORD_TAG || header[1] != MATERIAL_RECORD_VERSION || header[2] <= 0 ||
+      header[2] > (1 << 20))
+    refuse();
+  std::string text(header[2], '\0');
+  if (comm->me == 0) utils::sfread(FLERR, text.data(), 1, text.size(), fp, nullptr, error);
+  MPI_Bcast(text.data(), text.size(), MPI_CHAR, 0, world);
+
+  mat = CGMS::Material();
+  coeff_line.clear();
+  bool ended = false;
+  for (const auto &line : utils::split_lines(text)) {
+    if (line == "end") {
+      ended = true;
+      break;
+    }
+    if (utils::strmatch(line, "^pair_coeff ")) {
+      coeff_line = line.substr(11);
+      continue;
+    }
+    const auto words = utils::split_words(line);
+    if (words.size() != 2) refuse();
+    mat.set(lmp, words[0], words[1], "restart file");
+  }
+  if (!ended) refuse();
+  mat.finish(lmp, "restart file");
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairCGMS::memory_usage()
+{
+  const double n = atom->ntypes + 1;
+  return Pair::memory_usage() + n * n * (sizeof(int) + sizeof(double));
 }
 
 /* ---------------------------------------------------------------------- */

@@ -28,6 +28,8 @@ class PairCGMS : public Pair {
   void write_restart_settings(FILE *) override;
   void read_restart_settings(FILE *) override;
   void *extract(const char *, int &) override;
+  void write_data_all(FILE *) override;
+  double memory_usage() override;
 
   // read by fix cgms/fluid
   const CGMS::Material &material() const { return mat; }
@@ -56,11 +58,13 @@ class PairCGMS : public Pair {
 
  protected:
   CGMS::Material mat;
-  double cut_user;      // fixed cutoff given in pair_style (m), 0 = scaled cutoff
-  double cut_factor;    // scaled cutoff: cut_factor times the pair's LJ radius
-  int cut_scaled;       // 1: scaled cutoff, 0: fixed cutoff cut_user
-  double cut_global;    // largest cutoff, for the neighbour lists
+  std::string coeff_line;    // the pair_coeff arguments as given (for write_coeff)
+  double cut_user;           // fixed cutoff given in pair_style (m), 0 = scaled cutoff
+  double cut_factor;         // scaled cutoff: cut_factor times the pair's LJ radius
+  int cut_scaled;            // 1: scaled cutoff, 0: fixed cutoff cut_user
+  double cut_global;         // largest cutoff, for the neighbour lists
   double uniform_dryness;
+  class FixCGMSFluid *fluid;    // the fix that prepares coefficients and distances (init_style)
 
   void allocate();
   template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void eval();

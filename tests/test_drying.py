@@ -1,0 +1,135 @@
+"""Time-domain drying coupled to the LAMMPS mechanics (cgms.drying; doc/drying.md)."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from cgmstest import APPLE, MAT, ROOT, lammps_env
+from cgms import drying, morphology, study, tissue
+
+PARAMS = drying.read_params()
+
+
+def small_tissue(folder, width=1.25e-3, height=1.5e-3):
+    xy = tissue.rectangle(width, height, MAT["x_ref"])
+    data = folder / "tissue.data"
+    tissue.write_data(data, xy, 3 * MAT["x_ref"])
+    return xy, data
+
+
+def test_water_balance_with_moving_mechanics(tmp_path):
+    """The tissue shrinks and the transport geometry follows it; what the tissue loses
+    still equals what crossed its faces and outline, to 1e-10 of the water it held."""
+    xy, data = small_tissue(tmp_path)
+    mech = drying.Mechanics(data, APPLE)
+    try:
+        res = drying.dry(xy, PARAMS, hours=2, stop=0.4, mechanics=mech,
+                         levers=dict(layers=4, resolve=0.05))
+    finally:
+        mech.close()
+    rows = res["rows"]
+    assert rows[-1]["X/X0"] <= 0.4
+    assert rows[-1]["A/A0"] < 0.9              # it shrank, so the geometry moved
+    assert rows[-1]["solves"] >= 5
+    assert max(abs(r["balance"]) for r in rows) < 1e-10
+
+
+def test_uniform_field_equals_moisture_domain(tmp_path):
+    """Faces only (impermeable outline) and the transport geometry of the fresh tissue:
+    every column dries alike, the in-plane field stays uniform, and the shape is the
+    moisture-domain steady state at that dryness (cgms study, solved from the lattice)."""
+    xy, data = small_tissue(tmp_path)
+    mech = drying.Mechanics(data, APPLE, ftol=1e-13)
+    try:
+        res = drying.dry(xy, PARAMS, dict(outline=False), dict(layers=4, resolve=0.1),
+                         hours=3, stop=0.55, mechanics=mech, transport_geometry=False)
+        s = res["x"].reshape(-1, 4).mean(axis=1) / PARAMS["X0"]
+        assert np.ptp(s) < 1e-12 * s.mean()
+        final = mech.solve(s)                   # the shape at exactly this field
+    finally:
+        mech.close()
+    ref = study.relax(data, APPLE, float(s[0]), tmp_path / "ref", method="quasistatic",
+                      steady=dict(max_steps=20000))
+    a, b = morphology.measures(final), morphology.measures(ref["xy"])
+    for key in ("area", "perimeter", "elongation"):
+        assert abs(a[key] / b[key] - 1) < 1e-5, key      # measured: 1e-6 at most
+    # and bead by bead, after removing the rigid offset the two starts may leave
+    d = (final - final.mean(0)) - (ref["xy"] - ref["xy"].mean(0))
+    assert np.abs(d).max() < 1e-4 * MAT["x_ref"]         # measured: 2e-6
+
+
+def cli(*args, cwd):
+    env = lammps_env()
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT / "python"), env.get("PYTHONPATH", "")])
+    return subprocess.run([sys.executable, "-m", "cgms", "dry", *args], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_cli_outputs(tmp_path):
+    xy, data = small_tissue(tmp_path)
+    out = tmp_path / "res"
+    proc = cli("--data", str(data), "--hours", "1", "--stop", "0.5", "--layers", "4",
+               "--maps", "0.8,0.6", "--out", str(out), cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    for name in ("drying.csv", "drying.png", "moisture.png", "case-hardening.png",
+                 "tissue.X0.8.dump", "tissue.X0.6.dump", "log.lammps"):
+        assert (out / name).exists(), name
+    assert "X/X0 = 0.5 after" in proc.stdout
+    # nothing is overwritten: the same folder again is refused
+    again = cli("--data", str(data), "--hours", "1", "--out", str(out), cwd=tmp_path)
+    assert again.returncode != 0 and "exists and is not empty" in again.stderr
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--humidity", "1.5"], "--humidity must be in"),
+    (["--thickness", "0"], "--thickness must be positive"),
+    (["--faces", "0", "--no-outline"], "no water can leave"),
+    (["--data", "missing.data"], "missing.data"),
+])
+def test_cli_bad_input(tmp_path, args, message):
+    proc = cli(*args, "--frozen", "--out", str(tmp_path / "o"), cwd=tmp_path)
+    assert proc.returncode != 0
+    assert message in proc.stderr and "Traceback" not in proc.stderr
+
+
+MPI_SCRIPT = """
+import json, sys
+from pathlib import Path
+sys.path.insert(0, {python!r})
+from cgms import drying, material, tissue
+folder = Path({folder!r})
+xy = tissue.rectangle(1.25e-3, 1.5e-3, material.read({apple!r})["x_ref"])
+mech = drying.Mechanics(folder / "tissue.data", {apple!r})
+rows = drying.dry(xy, drying.read_params(), {{}}, dict(layers=4, resolve=0.05), hours=2,
+                  stop=0.4, mechanics=mech)["rows"]
+out = [(r["X/X0"], r["A/A0"], r["EL/EL0"], r["balance"]) for r in rows]
+(folder / ("rows.%s.json" % sys.argv[1])).write_text(json.dumps(out))
+mech.close(finalize=True)
+"""
+
+
+@pytest.mark.mpi
+def test_drying_under_mpi(tmp_path):
+    """The moisture loop runs alike on every process and LAMMPS splits the beads: under
+    mpirun -np 2 the drying curve and shape match the serial run (measured: 6e-11 in
+    X/X0 and A/A0, 6e-9 in EL/EL0) and the water balance still closes."""
+    import json
+    small_tissue(tmp_path)
+    script = tmp_path / "dry_mpi.py"
+    script.write_text(MPI_SCRIPT.format(python=str(ROOT / "python"), folder=str(tmp_path),
+                                        apple=APPLE))
+    env = lammps_env()
+    for tag, cmd in (("serial", [sys.executable]),
+                     ("np2", ["mpirun", "--oversubscribe", "-np", "2", sys.executable])):
+        proc = subprocess.run(cmd + [str(script), tag], cwd=tmp_path, env=env,
+                              capture_output=True, text=True, timeout=300)
+        assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    serial = np.array(json.loads((tmp_path / "rows.serial.json").read_text()))
+    parallel = np.array(json.loads((tmp_path / "rows.np2.json").read_text()))
+    assert serial.shape == parallel.shape and len(serial) > 10
+    assert np.abs(serial[:, :2] - parallel[:, :2]).max() < 1e-8
+    assert np.abs(serial[:, 2] - parallel[:, 2]).max() < 1e-6
+    assert np.abs(parallel[:, 3]).max() < 1e-10
