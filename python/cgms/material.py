@@ -20,7 +20,7 @@ POTENTIALS = Path(os.environ.get("CGMS_POTENTIALS",
 PARAMETERS = {
     "k_T": ("> 0", True), "k_PA": ("> 0", True), "k_d": ("> 0", True),
     "f0_a": ("> 0", True), "f0_r": ("> 0", True),
-    "beta_a": ("finite", True), "beta_b": ("finite", True),
+    "beta_a": ("> 0", True), "beta_b": ("finite", True),
     "lj_slope": (">= 0", True), "r0": (">= 0", False),
     "diameter": ("> 0", True), "height": ("> 0", True), "pectin": (">= 0", True),
     "perim_a": (">= 0", True), "perim_b": ("> 0", True),
