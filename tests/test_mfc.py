@@ -91,6 +91,7 @@ def forces(lmp):
     return f, lmp.numpy.extract_fix("mfc", 0, 0)
 
 
+@pytest.mark.lammps
 def test_fix_force_is_minus_the_energy_gradient(tmp_path):
     centres = [[0, 0], [P["x_ref"], 0]]
     lmp = fix_only(tmp_path, centres, 0.6, 4e-6, seed=3)
@@ -116,6 +117,7 @@ def test_fix_force_is_minus_the_energy_gradient(tmp_path):
         lmp.close()
 
 
+@pytest.mark.lammps
 def test_fix_pressure_and_newtons_third_law(tmp_path):
     centres = [[0, 0], [P["x_ref"], 0], [P["x_ref"] / 2, P["x_ref"] * math.sqrt(3) / 2]]
     lmp = fix_only(tmp_path, centres, 0.8, 3e-6, seed=7)
@@ -140,6 +142,7 @@ def test_fix_pressure_and_newtons_third_law(tmp_path):
         lmp.close()
 
 
+@pytest.mark.lammps
 def test_fix_bad_input(tmp_path):
     data = tmp_path / "walls.data"
     mfc_tissue.write_data(data, [[0, 0]], P)
@@ -185,6 +188,7 @@ def ring_solution(p, s=1.0):
     return dict(bond=l, area=area, pressure=eos(area, af, pt), radius=rc)
 
 
+@pytest.mark.lammps
 def test_single_fresh_cell_obeys_laplace_and_the_eos(tmp_path):
     lmp = open_cells(tmp_path, [[0.0, 0.0]])
     try:
@@ -212,6 +216,7 @@ def test_single_fresh_cell_obeys_laplace_and_the_eos(tmp_path):
 
 
 @pytest.mark.parametrize("s", [0.8, 0.3])
+@pytest.mark.lammps
 def test_single_dried_cell_follows_its_fluid_and_wrinkles(tmp_path, s):
     lmp = open_cells(tmp_path, [[0.0, 0.0]])
     try:
@@ -290,6 +295,7 @@ def test_cluster_one_and_two_ranks_agree(tmp_path_factory):
         assert np.abs(one["y"] - other["y"]).max() < 1e-9 * P["x_ref"]
 
 
+@pytest.mark.lammps
 def test_cluster_conserves_particles_molecules_and_momentum(tmp_path):
     folder = cluster_folder(tmp_path)
     script = cluster_script(steps=400).replace("fix damp all viscous 2e-8", "")
@@ -306,6 +312,7 @@ def test_cluster_conserves_particles_molecules_and_momentum(tmp_path):
     assert "Dangerous builds = 0" in log or "Dangerous builds" not in log
 
 
+@pytest.mark.lammps
 def test_cluster_restart_continues_the_run(tmp_path_factory):
     # the uninterrupted run also stops at the half (run N; write_restart; run N): the
     # re-setup there rebuilds the neighbour lists, whose new summation order alone moves
@@ -322,6 +329,7 @@ def test_cluster_restart_continues_the_run(tmp_path_factory):
 
 # --------------------------------------------------------------------------- the command
 
+@pytest.mark.lammps
 def test_cgms_mfc_tiny_study(tmp_path):
     out = tmp_path / "study"
     cmd = [sys.executable, "-m", "cgms", "mfc", "single", "--dryness", "1,0.8", "--out",
@@ -336,8 +344,8 @@ def test_cgms_mfc_tiny_study(tmp_path):
         assert (folder / name).exists(), name
     rec = json.loads((folder / "level.s0.8.json").read_text())
     assert rec["converged"] and abs(rec["cell_area/A0"] - 0.8) < 0.02
-    from cgms import calibrate
-    ids, xy = calibrate.read_centroids(folder / "centroids.s0.8.txt")
+    from cgms import positions
+    ids, xy = positions.read_centroids(folder / "centroids.s0.8.txt")
     assert ids.tolist() == [1] and np.abs(xy).max() < 1e-6
     # an existing study is not overwritten; --resume reuses the finished levels
     again = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
@@ -349,3 +357,27 @@ def test_cgms_mfc_tiny_study(tmp_path):
                           str(tmp_path / "bad")], env=env, capture_output=True, text=True)
     assert bad.returncode == 1 and "unknown tissue 'nowhere'" in bad.stderr
     assert "Traceback" not in bad.stderr
+
+
+@pytest.mark.lammps
+def test_fresh_cluster_rounds_up_widens_and_keeps_the_lamella(tmp_path):
+    # MFC.md 7.4 check 3: lamella gaps settle near d_p, and the cluster widens when fresh
+    lmp = open_cells(tmp_path, SEVEN)
+    try:
+        report = mfc_run.relax(lmp, P, 1.0)
+        xy = mfc_run.positions(lmp)
+    finally:
+        lmp.close()
+    assert report["converged"], report
+    cell = mfc_metrics.cells(xy, N)
+    centre = cell["centroid"][0]
+    radial = np.hypot(*(cell["centroid"][1:] - centre).T)
+    assert np.all(radial > 1.02 * P["x_ref"])        # the outer cells moved out (2.5 %)
+    assert np.all(cell["roundness"] > 0.93)          # hexagons rounded up (0.907 at start)
+    from scipy.spatial import cKDTree
+    cells_of = np.repeat(np.arange(7), N)
+    d, j = cKDTree(xy).query(xy, k=40)
+    other = cells_of[j] != cells_of[:, None]
+    nearest = np.where(other, d, np.inf).min(axis=1)
+    gaps = nearest[np.isfinite(nearest) & (nearest < 12e-6)]
+    assert 7.0e-6 < np.median(gaps) < 8.5e-6

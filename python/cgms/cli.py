@@ -652,6 +652,7 @@ COMMANDS = {
                tissue_job),
     "dry": ("dry a tissue slice in air over time (doc/drying.md)", dry_cli.add_arguments,
             dry_cli.job),
+    "mfc": (mfc_cli.HELP, mfc_cli.arguments, mfc_cli.main),
 }
 
 
@@ -662,7 +663,6 @@ def parser():
         q = sub.add_parser(name, help=text, description=text)
         arguments(q)
         q.set_defaults(func=job)
-    mfc_cli.add_parser(sub)
     return p
 
 

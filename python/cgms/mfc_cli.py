@@ -10,14 +10,13 @@ from . import mfc_model, mfc_run, mfc_study, tissue
 SINGLE = "single"
 
 
-def add_parser(subparsers):
-    """The ``mfc`` subcommand."""
-    q = subparsers.add_parser(
-        "mfc", help="the fine-scale MFC model: cell-resolved reference tissues",
-        description="Dry fine-scale (MFC) tissues, every cell a ring of wall particles around "
-                    "its fluid, to steady state at each moisture level (fast variant: one "
-                    "pressure per cell). Cell i sits at bead i of the CGMS tissue of the same "
-                    "name. Results: a new folder (or --resume an interrupted one).")
+HELP = ("the fine-scale MFC model: dry cell-resolved tissues (every cell a ring of wall "
+        "particles around its fluid; fast variant: one pressure per cell) and write reference "
+        "centroids; cell i sits at bead i of the CGMS tissue of the same name")
+
+
+def arguments(q):
+    """The options of ``cgms mfc``."""
     q.add_argument("tissues", nargs="*", default=["calibration"],
                    help="tissue names: calibration (86 cells, default), 1.5x1.5, 1.5x2.0, "
                         "1.5x2.5, 2.0x2.0, 2.0x2.5, all (the six), single (one cell), or a "
@@ -29,12 +28,13 @@ def add_parser(subparsers):
     q.add_argument("--material", default="apple", help="CGMS material of the shared values")
     q.add_argument("--ftol", type=float, default=mfc_run.DEFAULTS["ftol"],
                    help="steady state: largest force on a wall particle, N (default %(default)g)")
+    q.add_argument("--shift", type=float, default=mfc_run.DEFAULTS["shift"],
+                   help="steady state, or: no cell centroid moved more than this (m) over a "
+                        "chunk of 2000 iterations (default %(default)g)")
     q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
                    help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
     q.add_argument("--max-iterations", type=int, default=mfc_run.DEFAULTS["max_iterations"],
                    help="minimiser iteration limit per stage (default %(default)d)")
-    q.set_defaults(func=main)
-    return q
 
 
 def _levels(text):
@@ -72,9 +72,11 @@ def folder_name(name):
 
 def main(args):
     """Run the study; returns an exit status."""
-    from .cli import MICROSCALE, new_folder
+    from . import folders
+    from .cli import MICROSCALE
     levels = _levels(args.dryness)
-    for name, value in (("--ftol", args.ftol), ("--max-iterations", args.max_iterations)):
+    for name, value in (("--ftol", args.ftol), ("--shift", args.shift),
+                        ("--max-iterations", args.max_iterations)):
         if not value > 0:
             raise ValueError(f"{name} must be > 0, got {value}")
     if not 0 <= args.stage < 1:
@@ -82,10 +84,16 @@ def main(args):
     names = list(MICROSCALE) if args.tissues == ["all"] else args.tissues
     p = mfc_model.parameters(args.material)
     centres = {name: _centres(name, p) for name in names}   # bad names stop before any run
-    if args.resume and args.out:
-        out = Path(args.out)
-    else:
-        out = new_folder(args.out, "mfc")
+    with folders.claim(args.out, "mfc", args.resume) as out:
+        rows = run(out, names, centres, p, levels, args)
+    print_table(rows)
+    print(f"\ncgms mfc: centroids {out}/*/centroids.s*.txt; cells.s*.csv; walls.s*.dump "
+          "(OVITO)")
+    return 0
+
+
+def run(out, names, centres, p, levels, args):
+    """Every tissue through every level; returns the per-level summaries."""
     print(f"cgms mfc: {', '.join(names)}; levels {levels}; results in {out}", flush=True)
     rows = []
     for name in names:
@@ -93,12 +101,17 @@ def main(args):
         print(f"cgms mfc: {name}: {len(centres[name])} cells, "
               f"{len(centres[name]) * p['n_wall']} wall particles", flush=True)
         results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,
-                                stage=args.stage, max_iterations=args.max_iterations,
+                                shift=args.shift, stage=args.stage,
+                                max_iterations=args.max_iterations,
                                 say=lambda line: print(line, flush=True))
         for r in results:
             r["tissue"] = name
         rows += results
         mfc_study.write_table(results, folder / f"summary-{datetime.now():%H%M%S}.csv")
+    return rows
+
+
+def print_table(rows):
     print("\n  tissue        cells     s    A/A0    P/P0   EL/EL0  cellA/A0  cellP/P0  "
           "converged")
     for r in rows:
@@ -106,9 +119,6 @@ def main(args):
               + "  ".join(f"{r[k]:.4f}" if k in r else "   -  " for k in
                           ("A/A0", "P/P0", "EL/EL0", "cell_area/A0", "cell_perimeter/P0"))
               + f"  {'yes' if r['converged'] else 'NO'}")
-    print(f"\ncgms mfc: centroids {out}/*/centroids.s*.txt; cells.s*.csv; walls.s*.dump "
-          "(OVITO)")
-    return 0
 
 
 if __name__ == "__main__":

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import calibrate, mfc_metrics, mfc_run, mfc_tissue, run
+from . import mfc_metrics, mfc_run, mfc_tissue, positions, run
 
 
 def level_name(s):
@@ -61,19 +61,24 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
                 previous = s
                 continue
             start = time.perf_counter()
+            log = out / f"log.{name}.lammps"
+            k = 1
+            while log.exists():   # an interrupted attempt's log is kept
+                k += 1
+                log = out / f"log.{name}.{k}.lammps"
             if lmp is None:
-                lmp = run.open_lammps(log=out / f"log.{name}.lammps")
+                lmp = run.open_lammps(log=log)
                 source = data if previous is None else out / f"state.{level_name(previous)}.data"
                 lmp.commands_list(mfc_run.setup_commands(source.resolve(), p))
             else:
-                lmp.command(f"log {(out / f'log.{name}.lammps').resolve()}")
+                lmp.command(f"log {log.resolve()}")
             report = mfc_run.ramp(lmp, p, previous, s, **solver)
             xy = mfc_run.positions(lmp)
             summary, cell = mfc_metrics.summary(xy, p["n_wall"], fresh)
             if fresh is None:   # the fresh state is its own reference: A/A0 = 1 ...
                 summary, cell = mfc_metrics.summary(xy, p["n_wall"], summary)
             summary.update(report, seconds=time.perf_counter() - start, particles=len(xy))
-            calibrate.write_centroids(out / f"centroids.{name}.txt", cell["centroid"],
+            positions.write_centroids(out / f"centroids.{name}.txt", cell["centroid"],
                                       comment=f"MFC cell centroids at s = X/X0 = {s:g}")
             _write_cells(out / f"cells.{name}.csv", cell)
             lmp.command(f"write_dump all custom {(out / f'walls.{name}.dump').resolve()} "
@@ -106,6 +111,9 @@ def write_table(results, path):
     return Path(path)
 
 
-def read_centres(data):
-    """Bead positions (ordered by id) of a CGMS data file: the cell centres."""
-    return np.asarray(calibrate.data_positions(data), float)
+def read_centres(path):
+    """Cell centres (ordered by id) from a CGMS data file or an ``id x y`` centroid list."""
+    if positions.is_data_file(path):
+        return positions.read_data(path)["xy"]
+    ids, xy = positions.read_centroids(path)
+    return np.asarray(xy, float)[np.argsort(ids)]

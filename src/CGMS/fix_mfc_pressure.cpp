@@ -120,8 +120,10 @@ void FixMFCPressure::init()
   if (domain->xperiodic || domain->yperiodic)
     error->all(FLERR, "Fix mfc/pressure needs non-periodic x and y (boundary f f p)");
   if (max_molecule() > ncell)
-    error->all(FLERR, "Fix mfc/pressure: the group has molecule IDs above {} (its cells when "
-               "the fix was defined); define the fix again", ncell);
+    error->all(FLERR,
+               "Fix mfc/pressure: the group has molecule IDs above {} (its cells when "
+               "the fix was defined); define the fix again",
+               ncell);
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "Fix mfc/pressure needs an atom map (atom_modify map)");
 }
@@ -154,26 +156,36 @@ void FixMFCPressure::ring_partners(int i, int &prev, int &next)
 {
   const tagint me = atom->tag[i];
   if (atom->nspecial[i][0] != 2)
-    error->one(FLERR, "Fix mfc/pressure: wall particle {} has {} bond partners; each must be "
-               "bonded to exactly its two ring neighbours", me, atom->nspecial[i][0]);
+    error->one(FLERR,
+               "Fix mfc/pressure: wall particle {} has {} bond partners; each must be "
+               "bonded to exactly its two ring neighbours",
+               me, atom->nspecial[i][0]);
   prev = next = -1;
   for (int k = 0; k < 2; k++) {
     const tagint other = atom->special[i][k];
     int j = atom->map(other);
     if (j < 0)
-      error->one(FLERR, "Fix mfc/pressure: ring neighbour {} of wall particle {} is missing "
-                 "(a wall particle left its processor's ghost region?)", other, me);
+      error->one(FLERR,
+                 "Fix mfc/pressure: ring neighbour {} of wall particle {} is missing "
+                 "(a wall particle left its processor's ghost region?)",
+                 other, me);
     j = domain->closest_image(i, j);
     if (atom->molecule[j] != atom->molecule[i])
-      error->one(FLERR, "Fix mfc/pressure: wall particles {} and {} are bonded but belong to "
-                 "cells {} and {}", me, other, atom->molecule[i], atom->molecule[j]);
+      error->one(FLERR,
+                 "Fix mfc/pressure: wall particles {} and {} are bonded but belong to "
+                 "cells {} and {}",
+                 me, other, atom->molecule[i], atom->molecule[j]);
     const bool is_next = (other == me + 1) || (other < me - 1);
-    if (is_next) next = j;
-    else prev = j;
+    if (is_next)
+      next = j;
+    else
+      prev = j;
   }
   if (prev < 0 || next < 0)
-    error->one(FLERR, "Fix mfc/pressure: the ring of wall particle {} is not numbered with "
-               "consecutive IDs", me);
+    error->one(FLERR,
+               "Fix mfc/pressure: the ring of wall particle {} is not numbered with "
+               "consecutive IDs",
+               me);
 }
 
 /* ----------------------------------------------------------------------
@@ -209,15 +221,16 @@ void FixMFCPressure::post_force(int /*vflag*/)
     pressure[c] = 0.0;
     if (sums[2 * c + 1] == 0.0) continue;    // no such cell in the group
     if (!(area[c] > 0.0))
-      error->all(FLERR, "Fix mfc/pressure: cell {} encloses area {} <= 0 on step {}: its wall "
-                 "is numbered clockwise or has turned inside out", c + 1, area[c],
-                 update->ntimestep);
+      error->all(FLERR,
+                 "Fix mfc/pressure: cell {} encloses area {} <= 0 on step {}: its wall "
+                 "is numbered clockwise or has turned inside out",
+                 c + 1, area[c], update->ntimestep);
     const double q = fluid_area / area[c];
     const double q6 = q * q * q * q * q * q;
     pressure[c] = turgor + modulus * (q6 * q - 1.0);
     // -H int_{A_f}^{A} P dA, zero at A = A_f
-    energy += height * ((modulus - turgor) * (area[c] - fluid_area) +
-                        modulus * fluid_area / 6.0 * (q6 - 1.0));
+    energy += height *
+        ((modulus - turgor) * (area[c] - fluid_area) + modulus * fluid_area / 6.0 * (q6 - 1.0));
   }
 
   for (int i = 0; i < nlocal; i++) {

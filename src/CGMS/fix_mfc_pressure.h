@@ -36,11 +36,11 @@ class FixMFCPressure : public Fix {
   double turgor;        // P_T: the pressure at A = A_f (Pa)
   double fluid_area;    // A_f: fluid mass / (rho0 H), the area at rest density (m^2)
 
-  int ncell;            // largest molecule ID in the group at creation
-  double *sums;         // per cell: enclosed area, wall particle count (local, then global)
-  double *area;         // per cell: enclosed area (m^2)
-  double *pressure;     // per cell: pressure (Pa)
-  double energy;        // sum over cells of -H int_{A_f}^{A} P dA (J)
+  int ncell;           // largest molecule ID in the group at creation
+  double *sums;        // per cell: enclosed area, wall particle count (local, then global)
+  double *area;        // per cell: enclosed area (m^2)
+  double *pressure;    // per cell: pressure (Pa)
+  double energy;       // sum over cells of -H int_{A_f}^{A} P dA (J)
 
   int max_molecule();
   void ring_partners(int, int &, int &);
