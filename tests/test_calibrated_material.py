@@ -16,7 +16,7 @@ from cgmstest import (APPLE, CUTOFF, ROOT, XREF, header, make_tissue, new_lammps
                       require_lammps, working_directory)
 
 MFC_MATERIAL = ROOT / "potentials" / "apple-mfc.cgms"
-MFC_REFERENCE = ROOT / "examples" / "calibration" / "mfc-reference" / "calibration"
+MFC_REFERENCE = ROOT / "reference" / "mfc" / "calibration"
 
 
 def reference_levels():
@@ -41,7 +41,7 @@ def test_header_says_how_it_was_made():
     head = [line for line in text.splitlines() if line.startswith("#")]
     assert head[0].startswith("# DATE:") and "UNITS: si" in head[0]
     joined = " ".join(head)
-    for needed in ("examples/calibration/fit.py", "commit", "mfc-reference", "RMSD"):
+    for needed in ("examples/calibration/fit.py", "commit", "reference/mfc/calibration", "RMSD"):
         assert needed in joined, needed
     # every level the header quotes has its reference centroids in the repository
     assert fitted_levels() <= set(reference_levels())

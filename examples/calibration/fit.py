@@ -5,7 +5,7 @@
     python3 examples/calibration/fit.py [--mfc FOLDER] [--out OUT] [--install]
 
 ``--mfc``: the calibration tissue's MFC results, ``centroids.s<s>.txt`` per level (default
-examples/calibration/mfc-reference/calibration, made by ``python3 -m cgms mfc``).
+reference/mfc/calibration, made by ``python3 -m cgms mfc``).
 Results in OUT (default results/calibration-mfc), one folder per fit:
 
 - ``paper-<n>``: k_T, k_PA, beta_a, beta_b (the paper's parameters) on the n wettest levels,
@@ -35,7 +35,7 @@ BOUNDS = {"k_T": (0.01, 100.0), "k_PA": (0.0005, 100.0), "beta_a": (0.85, 1.15),
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--mfc", default="examples/calibration/mfc-reference/calibration")
+    ap.add_argument("--mfc", default="reference/mfc/calibration")
     ap.add_argument("--out", default="results/calibration-mfc")
     ap.add_argument("--levels", default="1,0.8,0.6",
                     help="levels to fit (default 1,0.8,0.6: the MFC's 0.4 and 0.3 are far "
@@ -78,7 +78,7 @@ def main(argv=None):
         made = [f"# Made by: python3 examples/calibration/fit.py --mfc {args.mfc} --out "
                 f"{args.out} --levels {args.levels} --install (fit 'kS', commit {commit})",
                 f"# References: MFC centroids in {args.mfc} "
-                "(examples/calibration/mfc-reference/README.md)"]
+                "(reference/mfc/README.md)"]
         with open(target, "x") as fh:
             fh.write("\n".join(lines[:2] + made + lines[2:]) + "\n")
         print(f"fit.py: wrote {target}")
