@@ -10,7 +10,7 @@ Results in OUT (default results/calibration-mfc), one folder per fit:
 
 - ``paper-<n>``: k_T, k_PA, beta_a, beta_b (the paper's parameters) on the n wettest levels,
   each fit started from the one before (continuation in dryness: started from apple's
-  values, the three-level fit stops in a local minimum whose objective is 7 times larger);
+  values, the three-level fit stops in a local minimum whose objective is 5 times larger);
 - ``kS``: the same four and the cell-shape stiffness k_S on every level, started from the
   last ``paper-<n>`` fit and k_S = 0.02 N/m.
 
