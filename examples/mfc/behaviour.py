@@ -2,7 +2,7 @@
 for the MFC (doc/mfc.md, "Tissues"): fresh lateral widening, contraction towards the centre,
 periphery shrinking less than the interior, monotone A/A0, P/P0, EL/EL0.
 
-    /usr/bin/python3 examples/mfc/behaviour.py results/mfc/<date-time>/calibration
+    /usr/bin/python3 examples/mfc/behaviour.py results/mfc/<date-time>/calibration [name]
 """
 
 import sys
@@ -14,10 +14,10 @@ from cgms import mfc_model, morphology, positions, tissue
 from cgms.cli import MICROSCALE
 
 
-def main(folder):
+def main(folder, name=None):
     folder = Path(folder)
     p = mfc_model.parameters()
-    w, h = MICROSCALE[folder.name]
+    w, h = MICROSCALE[name or folder.name]
     built = tissue.rectangle(w * 1e-3, h * 1e-3, p["x_ref"])
     levels = sorted((float(f.stem.split(".s", 1)[1]), f) for f in folder.glob("centroids.s*.txt"))
     states = {s: positions.read_centroids(f)[1] for s, f in levels[::-1]}
@@ -41,4 +41,4 @@ def main(folder):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1])
+    main(*sys.argv[1:3])   # folder [tissue name, default the folder's]

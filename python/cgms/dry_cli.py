@@ -7,12 +7,11 @@ the drying rate, A/A0, P/P0, EL/EL0 against time and moisture, surface and core 
 
 import csv
 import sys
-from datetime import datetime
 from pathlib import Path
 
 import numpy as np
 
-from . import drying, material, morphology
+from . import drying, material
 
 
 def read_data_positions(path):

@@ -15,7 +15,6 @@ X/X0 in one moisture step; sets the step), ``layers`` (nodes across the half thi
 tolerance).
 """
 
-import math
 import time
 from pathlib import Path
 
