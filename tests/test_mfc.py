@@ -413,3 +413,15 @@ def test_fresh_cluster_rounds_up_widens_and_keeps_the_lamella(tmp_path):
     nearest = np.where(other, d, np.inf).min(axis=1)
     gaps = nearest[np.isfinite(nearest) & (nearest < 12e-6)]
     assert 7.0e-6 < np.median(gaps) < 8.5e-6
+
+
+def test_missing_lammps_package_is_named():
+    """A LAMMPS of one's own without MOLECULE or EXTRA-PAIR gets one message naming the
+    package and the CMake option, before any MFC input runs."""
+    class Bare:
+        def has_package(self, name):
+            return name != "EXTRA-PAIR"
+
+    with pytest.raises(RuntimeError, match=r"EXTRA-PAIR package.*-DPKG_EXTRA-PAIR=on"):
+        mfc_run.require_packages(Bare())
+    mfc_run.require_packages(type("Full", (), {"has_package": lambda self, n: True})())

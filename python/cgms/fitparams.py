@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from . import model
-from .material import DERIVED
+from .material import DERIVED, PARAMETERS
 
 #: default search interval (factors of the start value) for each kind of parameter
 BOUNDS = (0.05, 20.0)
@@ -60,7 +60,8 @@ def parse_parameters(names, mat, levels, start=None, bounds=None):
     if per_level and has & {"beta_a", "beta_b"}:
         raise ValueError("beta@<s> sets beta at a level directly: do not fit it with beta_a "
                          "or beta_b")
-    known = [k for k in mat if k not in DERIVED]
+    # every material name, the optional ones (k_S) too: a file without k_S has k_S = 0
+    known = [k for k in dict.fromkeys([*mat, *PARAMETERS]) if k not in DERIVED]
     params = []
     for n in expanded:
         level = None
@@ -79,14 +80,15 @@ def parse_parameters(names, mat, levels, start=None, bounds=None):
             kind, default = "beta_level", float(model.beta(mat, level))
             n = f"beta@{level:g}"
         elif n in known:
-            kind, default = "material", mat[n]
+            kind, default = "material", mat.get(n, 0.0)
         else:
             raise ValueError(f"unknown parameter {n!r}: fit one of beta, beta_a, beta_b, "
                              f"beta@<s>, beta@*, {', '.join(known)}")
         value = float(start.pop(n, default))
         if not (math.isfinite(value) and value != 0):
             raise ValueError(f"{n}: the start value must be finite and non-zero (the search "
-                             f"runs in ln(value / start)), got {value!r}")
+                             f"runs in ln(value / start)), got {value!r}"
+                             + (f"; give one, e.g. --start {n}=0.1" if value == 0 else ""))
         lo, hi = bounds.pop(n, BETA_BOUNDS if n.startswith("beta") else BOUNDS)
         if not 0 < lo <= 1 <= hi or lo == hi:
             raise ValueError(f"{n}: bounds must be factors lo <= 1 <= hi with lo > 0 and "

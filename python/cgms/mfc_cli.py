@@ -53,6 +53,14 @@ def _centres(name, p):
                      f"{', '.join(MICROSCALE)}, all, or a CGMS data file")
 
 
+def folder_name(name):
+    """The results folder of a tissue: its name, or a data file's stem. (``Path(name).stem``
+    of a tissue name drops its last ".5" or ".0": 1.5x2.0 and 1.5x2.5 shared ``1.5x2``,
+    and the second read the first one's levels back as its own.)"""
+    from .cli import MICROSCALE
+    return name if name in MICROSCALE or name == SINGLE else Path(name).stem
+
+
 def main(args):
     """Run the study; returns an exit status."""
     from . import folders
@@ -73,12 +81,10 @@ def main(args):
 
 def run(out, names, centres, p, levels, args):
     """Every tissue through every level; returns the per-level summaries."""
-    from .cli import MICROSCALE
     print(f"cgms mfc: {', '.join(names)}; levels {levels}; results in {out}", flush=True)
     rows = []
     for name in names:
-        # a named tissue keeps its name (1.5x1.5 has no suffix); a data file its stem
-        folder = out / (name if name in MICROSCALE or name == SINGLE else Path(name).stem)
+        folder = out / folder_name(name)
         print(f"cgms mfc: {name}: {len(centres[name])} cells, "
               f"{len(centres[name]) * p['n_wall']} wall particles", flush=True)
         results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,

@@ -32,6 +32,21 @@ DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
                 max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg")
 
 
+#: LAMMPS packages the fast variant's styles come from (bond/angle harmonic; pair nm/cut)
+PACKAGES = ("MOLECULE", "EXTRA-PAIR")
+
+
+def require_packages(lmp, packages=PACKAGES):
+    """Stop with one clear message when this LAMMPS lacks a package the MFC model uses
+    (``./cgms setup`` builds them; a LAMMPS of one's own may not have them)."""
+    missing = [name for name in packages if not lmp.has_package(name)]
+    if missing:
+        raise RuntimeError(f"the MFC model needs LAMMPS's {', '.join(missing)} package(s), "
+                           "which this LAMMPS was built without: build it with "
+                           + " ".join(f"-DPKG_{name}=on" for name in missing)
+                           + " (./cgms setup does)")
+
+
 def setup_commands(data, p, newton="on", processors=None, boundary="s s p"):
     """LAMMPS commands that read an MFC wall data file (:func:`cgms.mfc_tissue.write_data`)
     and define the wall forces; the drying levers follow with :func:`level_commands`."""

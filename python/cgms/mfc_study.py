@@ -74,6 +74,7 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
                 log = out / f"log.{name}.{k}.lammps"
             if lmp is None:
                 lmp = run.open_lammps(log=log)
+                mfc_run.require_packages(lmp)
                 source = data if previous is None else out / f"state.{level_name(previous)}.data"
                 lmp.commands_list(mfc_run.setup_commands(source.resolve(), p))
             else:

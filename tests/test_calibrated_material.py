@@ -1,0 +1,120 @@
+"""potentials/apple-mfc.cgms, apple calibrated against the fine-scale (MFC) reference
+(doc/calibration.md): read by the plugin and by Python alike, the plugin's forces with it
+against the independent NumPy oracle, its header says how it was made, and it reproduces
+the fit: on the 86-bead tissue it is closer to the MFC centroids than the paper's values,
+by the RMSD its header records."""
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import reference
+from cgms import material, positions, study, superpose, tissue
+from cgmstest import (APPLE, CUTOFF, ROOT, XREF, header, make_tissue, new_lammps, physics,
+                      require_lammps, working_directory)
+
+MFC_MATERIAL = ROOT / "potentials" / "apple-mfc.cgms"
+MFC_REFERENCE = ROOT / "reference" / "mfc" / "calibration"
+
+
+def reference_levels():
+    files = sorted(MFC_REFERENCE.glob("centroids.s*.txt"))
+    return {float(f.name[len("centroids.s"):-len(".txt")]): f for f in files}
+
+
+def header_text():
+    return " ".join(line[1:] for line in MFC_MATERIAL.read_text().splitlines()
+                    if line.startswith("#"))
+
+
+def fitted_levels():
+    """The levels the header says were fitted ('... centroids at s = 1, 0.8, 0.6 on ...')."""
+    found = re.search(r"centroids\s+at\s+s\s+=\s+([0-9., ]+?)\s+on\s+the", header_text())
+    assert found, "the header names the fitted levels"
+    return {float(w) for w in found.group(1).replace(",", " ").split()}
+
+
+def test_header_says_how_it_was_made():
+    text = MFC_MATERIAL.read_text()
+    head = [line for line in text.splitlines() if line.startswith("#")]
+    assert head[0].startswith("# DATE:") and "UNITS: si" in head[0]
+    joined = " ".join(head)
+    for needed in ("examples/calibration/fit.py", "commit", "reference/mfc/calibration", "RMSD"):
+        assert needed in joined, needed
+    # every level the header quotes has its reference centroids in the repository
+    assert fitted_levels() <= set(reference_levels())
+
+
+def test_python_and_plugin_read_the_same_file(tmp_path):
+    """The plugin's per-bead state and forces with apple-mfc.cgms equal the NumPy oracle's
+    with the values cgms.material reads from it (so both read the same numbers)."""
+    require_lammps()
+    lammps = pytest.importorskip("lammps", reason="no LAMMPS Python module (./cgms setup)")
+    mat = material.read(MFC_MATERIAL)
+    make_tissue(tmp_path, jitter=0.06, seed=11, s=(0.3, 1.0), vscale=1e-3)
+    lmp = new_lammps()
+    try:
+        with working_directory(tmp_path):
+            lmp.commands_string(header() + physics().replace(APPLE, str(MFC_MATERIAL)))
+            lmp.command("run 0")
+        n = lmp.extract_global("nlocal")
+        order = np.argsort(np.array(lmp.numpy.extract_atom("id")[:n]))
+        x = np.array(lmp.numpy.extract_atom("x")[:n, :2])[order]
+        v = np.array(lmp.numpy.extract_atom("v")[:n, :2])[order]
+        f = np.array(lmp.numpy.extract_atom("f")[:n, :2])[order]
+        cg = np.array(lmp.numpy.extract_fix("fl", lammps.LMP_STYLE_ATOM,
+                                            lammps.LMP_TYPE_ARRAY))[:n][order]
+    finally:
+        lmp.close()
+    dryness, mf, l0p = cg[:, 1], cg[:, 4], cg[:, 7]   # columns: doc/fix_cgms_fluid.rst
+    fluid = reference.fluid_state(x, dryness, mf, l0p, mat, CUTOFF, implicit_dt=1e-7)
+    want, _, _ = reference.pair_forces(x, v, dryness, fluid["cgmscoef"], mat, CUTOFF)
+    assert np.max(np.abs(f - want)) <= 1e-10 * np.max(np.abs(want))
+    # and the file is not apple: the same configuration gives other forces with apple
+    apple = reference.pair_forces(x, v, dryness, reference.fluid_state(
+        x, dryness, mf, l0p, material.read(APPLE), CUTOFF, implicit_dt=1e-7)["cgmscoef"],
+        material.read(APPLE), CUTOFF)[0]
+    assert np.max(np.abs(f - apple)) > 1e-3 * np.max(np.abs(want))
+
+
+@pytest.fixture(scope="module")
+def rmsds(tmp_path_factory):
+    """RMSD (eqn 2, rigid motion removed) of the 86-bead tissue's steady states against the
+    committed MFC centroids, per level, with apple and with apple-mfc."""
+    require_lammps()
+    folder = tmp_path_factory.mktemp("mfc-fit")
+    data = folder / "tissue.data"
+    tissue.write_data(data, tissue.rectangle(1.25e-3, 1.5e-3, XREF), 3 * XREF)
+    out = {}
+    for name, mat in (("apple", APPLE), ("apple-mfc", MFC_MATERIAL)):
+        for s, path in reference_levels().items():
+            if s not in fitted_levels():
+                continue
+            ids, q = positions.read_centroids(path)
+            q = q[np.argsort(ids)]
+            run, note = study.relax_or_fallback(data, mat, s, folder / name)
+            assert run["converged"], (name, s, note)
+            out[name, s] = superpose.rmsd(run["xy"], q, "rigid")
+    return out
+
+
+def test_calibrated_is_closer_to_the_mfc_than_the_paper(rmsds):
+    levels = fitted_levels()
+    assert len(levels) >= 2
+    total = {name: sum(rmsds[name, s] ** 2 for s in levels) for name in ("apple", "apple-mfc")}
+    assert total["apple-mfc"] < 0.5 * total["apple"], total
+    for s in levels:
+        if s < 1:
+            assert rmsds["apple-mfc", s] < rmsds["apple", s], s
+
+
+def test_calibrated_reproduces_the_rmsd_in_its_header(rmsds):
+    """The header quotes the fit's RMSD per level ('<r> m (<r/x_ref> x_ref) at s = <s>'); a
+    fresh run of the file gives it again (the file holds what was fitted)."""
+    quoted = re.findall(r"([0-9.eE+-]+)\s+m\s+\([0-9.eE+-]+\s+x_ref\)\s+at\s+s\s+=\s+([0-9.]+)",
+                        header_text())
+    assert {float(s) for _, s in quoted} == fitted_levels()
+    for r, s in quoted:
+        assert rmsds["apple-mfc", float(s)] == pytest.approx(float(r), rel=1e-3), s
