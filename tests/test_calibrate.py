@@ -231,7 +231,7 @@ def test_cache_of_another_setup_is_refused(tissue86, tmp_path):
 @pytest.mark.lammps
 def test_reference_dump_is_read_by_id(references):
     refs, runs = references
-    frame = morphology.read_dump(refs[0.3], engine="numpy")[-1]
+    frame = morphology.read_dump(refs[0.3])[-1]
     ids, xy = positions.read_centroids(refs[0.3])
     assert np.array_equal(ids, frame["ids"]) and np.allclose(xy, runs[0.3]["xy"], atol=1e-12)
     ids, xy = positions.read_centroids(refs[1.0])
