@@ -88,11 +88,14 @@ def test_cli_outputs(tmp_path):
     (["--thickness", "0"], "--thickness must be positive"),
     (["--faces", "0", "--no-outline"], "no water can leave"),
     (["--data", "missing.data"], "missing.data"),
+    (["--maps", "0.5,abc"], "'abc' is not a number"),
+    (["--maps", "0.5,1.5"], "level 1.5 is outside (0, 1]"),
 ])
 def test_cli_bad_input(tmp_path, args, message):
     proc = cli(*args, "--frozen", "--out", str(tmp_path / "o"), cwd=tmp_path)
     assert proc.returncode != 0
     assert message in proc.stderr and "Traceback" not in proc.stderr
+    assert not (tmp_path / "o").exists()   # stopped before the results folder was made
 
 
 MPI_SCRIPT = """

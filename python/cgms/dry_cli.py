@@ -44,6 +44,7 @@ def read_data_positions(path):
 
 
 def add_arguments(p):
+    from .cli import levels
     p.add_argument("--temperature", type=float, default=70.0, help="air temperature, C")
     p.add_argument("--humidity", type=float, default=0.1,
                    help="air relative humidity, 0-1 (default 0.1)")
@@ -88,7 +89,7 @@ def add_arguments(p):
                         "where FIRE diverges, also warm started: doc/drying.md)")
     p.add_argument("--newton-iterations", type=int, default=8,
                    help="Newton iterations per shape solve (default %(default)s)")
-    p.add_argument("--maps", default="0.9,0.7,0.5,0.3,0.1",
+    p.add_argument("--maps", type=levels, default="0.9,0.7,0.5,0.3,0.1",
                    help="X/X0 levels of the moisture maps and dumps (default %(default)s)")
 
 
@@ -142,7 +143,7 @@ def _run(args, params, mat_file, mat, out, data, xy, diameters):
                       outline=not args.no_outline, heat=not args.no_heat,
                       shrink_thickness=not args.no_shrink_thickness)
     levers = dict(layers=args.layers, dx_max=args.dx_max, resolve=args.resolve)
-    levels = sorted((float(v) for v in args.maps.split(",") if v.strip()), reverse=True)
+    levels = sorted(args.maps, reverse=True)
     print(f"cgms dry: {len(xy)} beads, air {args.temperature:g} C, RH {args.humidity:g}, "
           f"{args.velocity:g} m/s; slice {args.thickness:g} mm; results in {out}", flush=True)
     solver = args.solver if args.solver != "auto" else \
