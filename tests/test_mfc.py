@@ -162,7 +162,6 @@ def test_fix_bad_input(tmp_path):
         proc = run_lmp(tmp_path, "\n".join(base + [line]) + "\n", check=False)
         text = proc.stdout + proc.stderr
         assert proc.returncode != 0 and "ERROR" in text, text[-2000:]
-        import re
         assert re.search(message, text), (message, text[-2000:])
 
 

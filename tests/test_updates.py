@@ -71,7 +71,7 @@ def test_rate_and_exact_density_stay_close(tmp_path):
 
 
 def test_restart_keeps_dryness_when_fix_omits_it(tmp_path):
-    from cgmstest import APPLE, PLUGIN
+    from cgmstest import PLUGIN
     make_tissue(tmp_path, s=0.4)
     lmp = new_lammps()
     try:

@@ -33,7 +33,6 @@ def cluster(n):
 
 
 def sph_state(lmp, p):
-    n = lmp.get_natoms()
     rho = np.array(lmp.gather_atoms("rho", 1, 1))
     return mfc_sph.wall_positions(lmp, p), rho
 
