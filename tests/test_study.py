@@ -143,3 +143,15 @@ def test_material_overrides_rederive_the_reference_cell():
     assert fixed["r0"] == 1e-4
     with pytest.raises(ValueError, match="pairs"):
         material.with_overrides(mat, "k_S")
+
+
+def test_write_csv_columns_and_never_overwrites(tmp_path):
+    """The one CSV writer of the tables (study, sensitivity, cgms dry, cgms mfc): chosen
+    columns in order, a missing value left empty, an existing file kept."""
+    path = tmp_path / "t.csv"
+    study.write_csv([dict(a=1, b=0.5, c="x"), dict(a=2, c="y")], path, columns=("c", "b"))
+    assert path.read_text().splitlines() == ["c,b", "x,0.5", "y,"]
+    with pytest.raises(FileExistsError, match="t.csv exists"):
+        study.write_csv([dict(a=3)], path)
+    assert path.read_text().splitlines()[0] == "c,b"
+    assert [p.name for p in tmp_path.iterdir()] == ["t.csv"]   # no temporary file left

@@ -5,13 +5,12 @@ The air (temperature, relative humidity, velocity) and the slice (thickness, tis
 the drying rate, A/A0, P/P0, EL/EL0 against time and moisture, surface and core moisture
 (case hardening), moisture maps, dumps for OVITO and a CSV."""
 
-import csv
 import sys
 from pathlib import Path
 
 import numpy as np
 
-from . import drying, material
+from . import drying, material, study
 
 
 def read_data_positions(path):
@@ -170,10 +169,7 @@ def _run(args, params, mat_file, mat, out, data, xy, diameters):
             mech.close()
     rows = result["rows"]
     keys = [k for k in rows[0] if k not in ("centroid", "outline")]
-    with open(out / "drying.csv", "x", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys, extrasaction="ignore")
-        w.writeheader()
-        w.writerows(rows)
+    study.write_csv(rows, out / "drying.csv", columns=keys)
     plots_drying(rows, out / "drying.png")
     if maps:
         plots.snapshots([(f"X/X0 = {r['X/X0']:.2f}, {r['t_h']:.2f} h", s["xy"], s["s"])

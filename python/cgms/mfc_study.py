@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import folders, mfc_metrics, mfc_run, mfc_tissue, positions, run
+from . import folders, mfc_metrics, mfc_run, mfc_tissue, positions, run, study
 from .study import level_name
 
 
@@ -111,12 +111,7 @@ COLUMNS = ("s", "A/A0", "P/P0", "EL/EL0", "cell_area/A0", "cell_perimeter/P0",
 
 def write_table(results, path):
     """The per-level summaries as CSV (new file only)."""
-    with open(path, "x", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(COLUMNS)
-        for r in results:
-            w.writerow([r.get(c, "") for c in COLUMNS])
-    return Path(path)
+    return study.write_csv(results, path, columns=COLUMNS)
 
 
 def read_centres(path):

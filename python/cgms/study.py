@@ -159,18 +159,23 @@ def table(results):
     return rows
 
 
-def write_csv(rows, path):
-    """The rows as a CSV table at a new ``path`` (FileExistsError if it is there), written
-    whole or not at all."""
+def write_csv(rows, path, columns=None):
+    """The rows (dicts) as a CSV table at a new ``path`` (FileExistsError if it is there),
+    written whole or not at all. ``columns``: the keys to write, in order (a row's other
+    keys are left out, a missing one is left empty); default all keys of the first row."""
     import csv
     import io
-    if Path(path).exists():
-        raise FileExistsError(f"{path} exists")
     text = io.StringIO()
-    writer = csv.DictWriter(text, fieldnames=list(rows[0]))
+    writer = csv.DictWriter(text, fieldnames=list(columns or rows[0]), restval="",
+                            extrasaction="ignore" if columns else "raise")
     writer.writeheader()
     writer.writerows(rows)
-    folders.write_atomic(path, lambda fh: fh.write(text.getvalue().encode()))
+    try:
+        folders.write_atomic(path, lambda fh: fh.write(text.getvalue().encode()),
+                             replace=False)
+    except FileExistsError:
+        raise FileExistsError(f"{path} exists") from None
+    return Path(path)
 
 
 def target_moisture(data, material, target, out, xtol=1e-3, **kwargs):
