@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from cgms import cli, folders, study, tissue
-from cgmstest import APPLE, MAT
+from cgmstest import APPLE, MAT, ROOT
 
 STEADY = dict(residual=1e-3, speed=1e-3, max_steps=200000)
 
@@ -143,6 +143,18 @@ def test_material_overrides_rederive_the_reference_cell():
     assert fixed["r0"] == 1e-4
     with pytest.raises(ValueError, match="pairs"):
         material.with_overrides(mat, "k_S")
+
+
+@pytest.mark.lammps
+def test_folded_steady_state_is_refused(small_tissue, tmp_path):
+    """A minimiser lands on a tissue folded onto itself without a word (the dynamics stops
+    on it): apple-mfc at s = 0.4, below the range it was fitted in, folds every bead into
+    its second shell. The level must stop with the cause, not print 'converged'."""
+    folded_material = str(ROOT / "potentials" / "apple-mfc.cgms")
+    with pytest.raises(study.LammpsError, match=r"folded onto itself: bead \d+ has \d+ neigh"):
+        study.relax(small_tissue, folded_material, 0.4, tmp_path / "qs", method="quasistatic")
+    healthy = study.relax(small_tissue, APPLE, 0.4, tmp_path / "ok", method="quasistatic")
+    assert healthy["converged"]
 
 
 def test_write_csv_columns_and_never_overwrites(tmp_path):

@@ -127,6 +127,32 @@ def steady_state(lmp):
                 steps=lmp.extract_global("ntimestep"))
 
 
+#: more neighbours than the first and second shells of a hexagonal lattice hold together
+#: (6 + 6): the second shell is inside the cutoff, so the tissue has folded onto itself
+CROWDED = 12
+
+
+def folded(lmp):
+    """A one-line reason when the state in ``lmp`` has folded onto itself (a bead with
+    more than :data:`CROWDED` neighbours), else ``None``. The dynamics stops on such a
+    state (fix cgms/fluid's damping check); a minimiser or Newton's method does not, and
+    would report a collapsed tissue as a steady state (measured: A/A0 0.13, 16-40
+    neighbours per bead, with a material whose perimeter law is nearly off)."""
+    from . import fields
+
+    state = fields.bead_state(lmp, ["nneigh"])
+    worst = int(np.argmax(state["nneigh"]))
+    count = state["nneigh"][worst]
+    if count <= CROWDED:
+        return None
+    crowded = int((state["nneigh"] > CROWDED).sum())
+    return (f"the steady state folded onto itself: bead {state['id'][worst]} has {count:g} "
+            f"neighbours within the cutoff, where a hexagonal tissue has 6 ({crowded} of "
+            f"{len(state['id'])} beads have more than {CROWDED}); the paper's forces do not "
+            "resist shear: a cell-shape stiffness (k_S, doc/pair_cgms.rst) or a stiffer "
+            "perimeter law (k_PA) may prevent it")
+
+
 def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, log=None):
     """Newton's method (:mod:`cgms.solve`) on a LAMMPS instance set up by
     :func:`tissue_script` with ``method="newton"``; writes the final state to ``dump``.

@@ -77,11 +77,15 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
                                           spacing=model.steady_spacing(mat, dryness),
                                           log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
+        # a minimiser or Newton lands on a folded tissue without a word; the dynamics stops
+        folded = None if method == "dynamics" else run.folded(lmp)
     except Exception as err:
         log = out / f"log.{name}.lammps"
         lmp.close()
         raise LammpsError(dryness, _lammps_reason(err, log), log) from err
     lmp.close()
+    if folded:
+        raise LammpsError(dryness, folded, out / f"log.{name}.lammps")
     state.update(dryness=dryness, seconds=time.perf_counter() - start, method=method,
                  converged=bool(state["steps"] < max_steps))
     if solver:
