@@ -2,6 +2,7 @@
 study, one command at a time writes in a folder (a lock), and every result file appears
 whole or not at all (written to a temporary file, then renamed)."""
 
+import errno
 import fcntl
 import json
 import os
@@ -72,7 +73,12 @@ def write_atomic(path, write, replace=True):
     beside it, which is then renamed to ``path``. With ``replace`` false an existing
     ``path`` is kept (FileExistsError): the file is linked in, which never replaces."""
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    if path.is_dir():
+        raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), os.fspath(path))
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as err:   # named by the file asked for, not the temporary one
+        raise OSError(err.errno, err.strerror, os.fspath(path)) from None
     try:
         with os.fdopen(fd, "wb") as fh:
             write(fh)
