@@ -1,4 +1,7 @@
 #!/usr/bin/env python3
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """What accuracy costs: every fidelity lever on the same tissue at one dryness, timed
 side by side and scored against a tight reference solution.
 

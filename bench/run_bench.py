@@ -1,4 +1,7 @@
 #!/usr/bin/env python3
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Cost per bead-step of CGMS (pair_style cgms + fix cgms/fluid) against pair_style lj/cut.
 
 Timing mode (default): one LAMMPS process runs, for every tissue size, the CGMS case

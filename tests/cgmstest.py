@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The one harness of the CGMS tests: tissues, input scripts, running LAMMPS with the
 plugin (``lmp -in`` serially or under mpirun, or the ``lammps`` Python module), the checks
 every dynamics case must pass, and the ``slow`` marker.

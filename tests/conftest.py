@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Markers, declared once, and the rule for tests that need LAMMPS: without a build they
 are skipped with the reason (the pure-Python tests run alone), unless CGMS_REQUIRE_LAMMPS
 is set (./cgms test sets it), which makes a missing build fail the session."""

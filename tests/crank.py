@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Analytic solutions of Fick's second law with a convective boundary (Crank 1975, The
 Mathematics of Diffusion, 2nd ed., eqs 4.53-4.54 for the plane sheet and 5.50-5.52 for the
 infinite cylinder), independent of cgms.transport: the mean and the local concentration

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """An independent NumPy implementation of doc/model.md, written from the
 specification (not from the plugin's source), for comparison with the plugin.
 

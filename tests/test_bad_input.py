@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Bad input, second part (issue 6): the cases tests/test_errors.py does not cover. Each
 asserts the specific message: LAMMPS's own where it is clear (data files, restart files,
 unwritable outputs), the plugin's, or the Python tools' (tissue builder command line,

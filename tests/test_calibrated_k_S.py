@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The cell-shape stiffness k_S (optional in a material file, 0 when absent) can be fitted
 like any other parameter: named, started, passed to the runs, recovered from CGMS's own
 steady states and written into the fitted material file."""

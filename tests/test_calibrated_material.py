@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """potentials/apple-mfc.cgms, apple calibrated against the fine-scale (MFC) reference
 (doc/calibration.md): read by the plugin and by Python alike, the plugin's forces with it
 against the independent NumPy oracle, its header says how it was made, and it reproduces

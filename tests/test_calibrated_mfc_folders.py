@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The MFC study gives every tissue its own results folder (the calibration against the MFC
 reads them by tissue name: doc/calibration.md)."""
 

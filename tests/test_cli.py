@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The command line and the Python side never crash, never lose or mix results, and name
 the real cause (issue 12, sections 2 and 4-6; doc/errors.md, "Command line and Python").
 

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Every entry point LAMMPS offers into the CGMS styles gives a result or a clear ERROR,
 never a crash (issue 12). Each case runs LAMMPS in a subprocess, so a segfault fails the
 case, not the suite: a crash shows as a return code other than 0 (result) or 1 (ERROR)."""

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Any tissue through the command line (issue 14, item 4): study, target, sensitivity and
 calibrate take --data, a LAMMPS data file from cgms.tissue (disc, polygon with a hole,
 heterogeneous cells) or a list of cell centroids ('id x y', metres). The folder logic runs

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Hard cases for the dynamics (issue 6): moisture fields, jittered and overlapping beads,
 unusual tissue shapes, heterogeneous cells, time steps, a large tissue, two MPI ranks, a
 drying schedule and the paper's sensitivity extremes. doc/validation.md ("Hard cases")

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The fluid state travels with write_data / read_data (issue 14, item 2), and the per-bead
 fields are reachable by name from Python (item 3: cgms.fields.bead_state).
 

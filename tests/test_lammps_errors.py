@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """LAMMPS errors that name the real cause (issue 12, sections 2 and 3): each case once
 stopped with advice about something else (the time step, 'isolated allow', a collapsing
 tissue) or ran on with a wrong state. doc/errors.md tables what the user sees."""

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The fine-scale (MFC) model, fast variant: builder, fix mfc/pressure against finite
 differences and the analytic ring, single cells fresh and dried, conservation, 1 vs 2 ranks,
 restart, and a tiny ``cgms mfc`` study."""

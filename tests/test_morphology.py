@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Tissue morphology (python/cgms/morphology.py) on shapes with known answers.
 Needs NumPy and SciPy; no LAMMPS."""
 

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The quasi-static problem: with every bead's pressure held at -Pi (``balance yes``, or
 ``minimize``), fix cgms/fluid reports a potential whose gradient is minus the CGMS forces,
 so that LAMMPS minimisers and cgms.solve can work on it.

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The plugin against the independent NumPy implementation of doc/model.md (reference.py):
 per-bead geometry, density, pressure, dm/dt, the pair coefficient, forces, LJ energy
 and virial, on random jittered tissues with heterogeneous dryness and velocities."""

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The default scheme runs every uniform dryness in [0.1, 1] stably at the paper's time
 step (doc/model.md: the paper's literal inertia does not)."""
 

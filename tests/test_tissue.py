@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Tissue builder (python/cgms/tissue.py): the paper's bead counts, lattice geometry,
 outline validation, per-bead diameters, data files and their Diameters section in LAMMPS,
 and the command line. See doc/tissues.md for the derivation of the counts."""

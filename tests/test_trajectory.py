@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """cgms.trajectory: the tissue shape in every frame of a dump that LAMMPS wrote with the
 plugin, read with MDAnalysis, against the same frames parsed here as plain text."""
 

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Per-bead updates from one step to the next: mass transfer (eqn 7, explicit Euler),
 the literal rate form of the density (eqns 5-6), and the inertial mass of each mode."""
 

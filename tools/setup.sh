@@ -1,4 +1,7 @@
 #!/usr/bin/env bash
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 # Set up everything CGMS needs on a Debian bookworm machine, reusing a cache when one exists:
 #   1. Debian packages (compiler, CMake, Open MPI, NumPy/SciPy/matplotlib/MDAnalysis/pytest);
 #   2. LAMMPS 4 Feb 2025 from Debian's trixie *source* package, built with PLUGIN, MPI and

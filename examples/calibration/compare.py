@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """CGMS against the fine-scale (MFC) reference, tissue by tissue and level by level.
 
 Usage (after ``source build/env.sh``; doc/validation.md, "CGMS against the MFC"):

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Calibrate CGMS against the fine-scale (MFC) reference of the 86-cell calibration tissue
 (doc/calibration.md, "Against the MFC"). From the repository root, after
 ``source build/env.sh``:

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Steady states of the full SPH model against the fast variant (one pressure per cell) on
 one cell or a 7-cell cluster, fresh and dried along the same ramp (doc/mfc.md, table
 "SPH against the fast variant").

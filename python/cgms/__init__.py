@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """CGMS: coarse-grained multiscale model of plant-tissue drying, on LAMMPS.
 
 Plain functions on NumPy arrays: build tissues (:mod:`cgms.tissue`), read

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Calibration: fit CGMS material parameters to reference cell-centroid positions.
 
 The paper (section 2.3) calibrates k_T, k_PA and beta on the 86-bead tissue: at each

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Command line: ``python3 -m cgms main`` runs the main job (the microscale study);
 ``study`` dries any tissue over moisture levels; ``target`` finds the initial dryness that
 reaches a given moisture; ``calibrate`` fits material parameters to reference centroid

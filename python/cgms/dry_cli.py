@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """``python3 -m cgms dry``: dry a tissue slice in air over time (doc/drying.md).
 
 The air (temperature, relative humidity, velocity) and the slice (thickness, tissue from

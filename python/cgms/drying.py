@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Time-domain drying: moisture transport (:mod:`cgms.transport`) coupled to the
 quasi-static mechanics of the tissue (doc/drying.md).
 

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Per-bead CGMS state by name, from a running LAMMPS instance.
 
 :func:`bead_state` is the call a Python user needs instead of column numbers::

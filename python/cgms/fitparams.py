@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The parameters of a calibration: which material values (or beta) are fitted, their search
 intervals, the pair_coeff overrides of one run, and the material values a fit stands for.
 

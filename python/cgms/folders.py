@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Results folders: a new one never overwrites anything, a resumed one must hold the same
 study, one command at a time writes in a folder (a lock), and every result file appears
 whole or not at all (written to a temporary file, then renamed)."""

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """CGMS material files (``potentials/*.cgms``): find, read with the plugin's rules, derive
 the reference cell, apply ``name value`` overrides, and write a new file.
 

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """``python3 -m cgms mfc``: dry fine-scale (MFC) tissues to steady state at each moisture
 level and write the reference centroids (doc/mfc.md)."""
 

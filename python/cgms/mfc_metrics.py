@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Measures of fine-scale (MFC) cells and tissues from wall particle positions.
 
 A cell is the closed polygon of its wall particles in ID order (counter-clockwise). Per

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Parameters of the fine-scale (MFC) model and the drying levers per level (doc/mfc.md).
 
 The MFC (Karunasena et al., Soft Matter 10, 2014, 5249) resolves every cell: a closed ring

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Run the fine-scale (MFC) model in LAMMPS: the fast steady-state variant.
 
 Each cell's fluid is at rest at a steady state, so it is one pressure from the equation

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The full fine-scale (MFC) model: SPH fluid inside the DEM wall rings (MFC.md 9).
 
 Same walls as the fast variant (:mod:`cgms.mfc_run`, same atom IDs 1..n_cells*n_wall), plus

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Dry a fine-scale (MFC) tissue over moisture levels and write the reference outputs.
 
 One folder per tissue. Per level ``s``:

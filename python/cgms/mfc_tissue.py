@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Build fine-scale (MFC) tissues: one closed wall ring per cell around each CGMS bead.
 
 Cell i of the MFC is bead i of the CGMS tissue: the cell centres are the bead positions of

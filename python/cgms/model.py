@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The model's formulas, written once (doc/model.md): the reference cell, the periphery
 factor beta(s), the steady state of a bead (perimeter, spacing, density, moisture) and the
 time-step limits of the damping and the cell-shape stiffness.

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Tissue shape measures from bead (cell-centroid) positions (doc/model.md).
 
 The tissue outline is the ordered closed polygon of the peripheral bead centres, found from

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Pictures of dried tissues a food scientist recognises (matplotlib, PNG).
 
 The model places one bead at each cell centroid; these functions draw the cells around

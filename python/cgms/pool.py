@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Steady states for a calibration, run in parallel and cached: each parameter vector and
 level is one :func:`cgms.study.relax_or_fallback` in a worker process; every record is
 appended to ``<out>/evaluations.jsonl`` so that a rerun in the same folder reads it back."""

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Bead positions in files: LAMMPS data files of ``atom_style cgms`` (written by
 :func:`write_data`, read back by :func:`read_data`, the one parser of an Atoms section) and
 plain centroid lists (``id x y`` per line, metres), e.g. digitised from a micrograph or the

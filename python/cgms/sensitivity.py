@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """The paper's sensitivity study (section 4.4): the 86-bead tissue, fresh and at s = 0.3,
 with k_T, k_PA and beta scaled. One steady state per setting, normalised by the fresh
 steady state of the same setting."""

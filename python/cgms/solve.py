@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Steady states by Newton's method on the quasi-static problem (doc/model.md).
 
 At steady state every bead holds ``P = -Pi``. With the pressures held there, the CGMS

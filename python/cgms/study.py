@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Steady states over moisture levels (the paper's moisture-domain approach, section 2.4),
 their morphology, and the initial dryness that lands on a requested moisture.
 

@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Rigid superposition and eqn (2) of the paper: the root mean square distance between
 simulated bead positions and reference centroids, after removing the rigid motion that the
 steady state is not defined up to."""

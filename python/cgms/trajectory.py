@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Tissue morphology over a whole run, frame by frame, read with MDAnalysis.
 
 A LAMMPS run writes its trajectory with ``dump custom`` (text, columns ``id type x y z``

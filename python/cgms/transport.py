@@ -1,3 +1,6 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
 """Moisture transport in a drying tissue slice: plain functions on arrays (doc/drying.md).
 
 The 2-D tissue is a slice of thickness ``L``. Each bead carries a column of its tissue
