@@ -161,6 +161,20 @@ def test_material_file_is_new_and_reads_back(tmp_path):
     assert material.read(path)["k_T"] == 2.5e-10
 
 
+
+def test_material_file_is_whole_or_absent(tmp_path, monkeypatch):
+    """A disk that fills while the fitted file is written leaves no half file behind
+    (a later calibrate would read it as a material)."""
+    import os
+
+    def full_disk(fd):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full_disk)
+    with pytest.raises(OSError, match="No space"):
+        material.write(tmp_path / "fit.cgms", APPLE, {"k_T": 2.5e-10})
+    assert list(tmp_path.iterdir()) == []
+
 def test_command_line_rejects_bad_arguments(capsys):
     assert cli.main(["calibrate", "--reference", "fresh.txt"]) == 2
     assert "expected LEVEL=FILE" in capsys.readouterr().err

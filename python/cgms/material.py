@@ -14,7 +14,7 @@ import os
 from datetime import date
 from pathlib import Path
 
-from . import model
+from . import folders, model
 
 POTENTIALS = Path(os.environ.get("CGMS_POTENTIALS",
                                  Path(__file__).resolve().parents[2] / "potentials"))
@@ -170,9 +170,8 @@ def write(path, source, values, note="", overwrite=False, contributor="cgms cali
     if words:
         header.append(line)
     text = "\n".join(header + body) + "\n"
-    try:
-        with open(path, "w" if overwrite else "x") as fh:
-            fh.write(text)
+    try:   # whole or not at all: an interrupted write leaves no half material file
+        folders.write_text(path, text, overwrite=overwrite)
     except FileExistsError:
         raise FileExistsError(f"{os.fspath(path)} exists; pass overwrite=True (--force) to "
                               "replace it") from None
