@@ -101,6 +101,22 @@ def test_cli_bad_input(tmp_path, args, message):
     assert not (tmp_path / "o").exists()   # stopped before the results folder was made
 
 
+
+@pytest.mark.parametrize("atoms, message", [
+    (["2 1 0 0 0", "3 1 1.5e-4 0 0", "4 1 0 1.5e-4 0"], "atom ids must be 1..N"),
+    (["1 1 0 0 0", "2 1 abc 0 0", "3 1 0 1.5e-4 0"], "line 13: expected 'id type x y z'"),
+])
+def test_cli_bad_data_file(tmp_path, atoms, message):
+    """--data goes through the package's one data-file reader: file and line named, and
+    the ids the transport needs (1..N) checked, before any folder is made."""
+    data = tmp_path / "bad.data"
+    data.write_text("bad tissue\n\n3 atoms\n1 atom types\n\n-1 1 xlo xhi\n-1 1 ylo yhi\n"
+                    "-1 1 zlo zhi\n\nAtoms\n\n" + "\n".join(atoms) + "\n")
+    proc = cli("--data", str(data), "--frozen", "--out", str(tmp_path / "o"), cwd=tmp_path)
+    assert proc.returncode != 0
+    assert message in proc.stderr and "Traceback" not in proc.stderr, proc.stderr
+    assert not (tmp_path / "o").exists()
+
 MPI_SCRIPT = """
 import json, sys
 from pathlib import Path

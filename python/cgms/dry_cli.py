@@ -13,36 +13,16 @@ from pathlib import Path
 
 import numpy as np
 
-from . import drying, material, study
+from . import drying, material, positions, study
 
 
 def read_data_positions(path):
-    """Bead positions (id order) of a LAMMPS data file with an ``Atoms`` section (id type
-    x y z), and whether it has a ``Diameters`` section."""
-    lines = Path(path).read_text().splitlines()
-    try:
-        start = next(k for k, ln in enumerate(lines) if ln.split("#")[0].strip() == "Atoms")
-    except StopIteration:
-        raise ValueError(f"{path}: no Atoms section (a tissue data file from "
-                         "python3 -m cgms.tissue has one)") from None
-    rows = []
-    for ln in lines[start + 1:]:
-        words = ln.split("#")[0].split()
-        if not words:
-            if rows:
-                break
-            continue
-        if len(words) < 5:
-            break
-        rows.append((int(words[0]), float(words[2]), float(words[3])))
-    if not rows:
-        raise ValueError(f"{path}: the Atoms section is empty")
-    rows.sort()
-    ids = np.array([r[0] for r in rows])
-    if not np.array_equal(ids, np.arange(1, len(rows) + 1)):
+    """Bead positions (id order) of a tissue data file (:func:`cgms.positions.read_data`)
+    and whether it has a ``Diameters`` section; the transport indexes beads 1..N."""
+    beads = positions.read_data(path)
+    if not np.array_equal(beads["ids"], np.arange(1, len(beads["ids"]) + 1)):
         raise ValueError(f"{path}: atom ids must be 1..N")
-    diameters = any(ln.strip() == "Diameters" for ln in lines)
-    return np.array([(r[1], r[2]) for r in rows]), diameters
+    return beads["xy"], beads["diameters"] is not None
 
 
 def add_arguments(p):
