@@ -153,6 +153,9 @@ def test_two_commands_never_share_a_folder(fake, capsys):
         assert proc.returncode == 3 and "in use" in proc.stdout
 
 
+CALIBRATE = ["calibrate", "--reference", "1=ref.txt"]
+
+
 # every command refuses a bad option before it makes anything (usage error, status 2)
 @pytest.mark.parametrize("args,message", [
     (["study", "--width", "-1"], "argument --width: must be a positive number, got -1"),
@@ -169,9 +172,9 @@ def test_two_commands_never_share_a_folder(fake, capsys):
     (["target", "0"], "argument target: must be a positive number"),
     (["target", "-0.5"], "must be a positive number"),
     (["target", "0.6", "--xtol", "0"], "argument --xtol: must be a positive number"),
-    (["calibrate", "--reference", "1=ref.txt", "--workers", "0"], "argument --workers: must be at least 1"),
-    (["calibrate", "--reference", "1=ref.txt", "--max-evaluations", "0"], "argument --max-evaluations: must be at least 1"),
-    (["calibrate", "--reference", "1=ref.txt", "--start", "k_T=abc"], "--start: bad value in 'k_T=abc'"),
+    (CALIBRATE + ["--workers", "0"], "argument --workers: must be at least 1"),
+    (CALIBRATE + ["--max-evaluations", "0"], "argument --max-evaluations: must be at least 1"),
+    (CALIBRATE + ["--start", "k_T=abc"], "--start: bad value in 'k_T=abc'"),
 ])
 def test_bad_options_create_nothing(fake, capsys, args, message):
     status, err, _ = run_cli(capsys, *args)
