@@ -133,3 +133,24 @@ def test_minimize_with_lammps_default_dmax(folder):
     assert "set min_modify dmax ~1e-6" in warning
     assert "Stopping criterion = force tolerance" in proc.stdout \
         or "Stopping criterion = energy tolerance" in proc.stdout, proc.stdout[-2000:]
+
+
+@pytest.mark.lammps
+def test_minimize_warns_when_it_ends_on_a_folded_tissue(tmp_path):
+    """A LAMMPS script's own minimize lands on a tissue folded onto itself without a word
+    unless the fix says so at its end (apple-mfc at s = 0.4 folds every bead into its
+    second shell; apple at the same s stays a hexagonal tissue)."""
+    from cgms import run, tissue
+    from cgmstest import MAT, PLUGIN, ROOT
+
+    data = tmp_path / "tissue.data"
+    tissue.write_data(data, tissue.rectangle(0.9e-3, 0.8e-3, MAT["x_ref"]), 3 * MAT["x_ref"])
+    seen = {}
+    for name in ("apple", "apple-mfc"):
+        folder = tmp_path / name
+        folder.mkdir()
+        script = f"plugin load {PLUGIN}\n" + run.tissue_script(
+            data, ROOT / "potentials" / f"{name}.cgms", 0.4, method="quasistatic")
+        seen[name] = run_lmp(folder, script).stdout
+    assert "minimize ended on a tissue folded onto itself" in seen["apple-mfc"]
+    assert "folded" not in seen["apple"]

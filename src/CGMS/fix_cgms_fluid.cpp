@@ -234,6 +234,28 @@ int FixCGMSFluid::setmask()
   return PRE_FORCE | MIN_PRE_FORCE;
 }
 
+/* ----------------------------------------------------------------------
+   a minimizer may end on a tissue folded onto itself: beads inside each other's
+   second shell. The dynamics stops there (the damping check of stop_if_unstable);
+   a minimizer has no such limit and would hand the state on as a steady state.
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::post_run()
+{
+  if (update->whichflag != 2 || !sums) return;
+  double most_local = 0.0, most = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) most_local = MAX(most_local, sums[2 * i]);
+  MPI_Allreduce(&most_local, &most, 1, MPI_DOUBLE, MPI_MAX, world);
+  // a hexagonal tissue has 6 neighbours and 12 within its second shell
+  if (most > 12.0 && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/fluid: minimize ended on a tissue folded onto itself: a bead has "
+                   "{:g} neighbours within the cutoff, where a hexagonal tissue has 6. This is "
+                   "no steady state of a tissue; a cell-shape stiffness (k_S, doc/pair_cgms.rst) "
+                   "or a stiffer perimeter law (k_PA) may prevent it",
+                   most);
+}
+
 /* ---------------------------------------------------------------------- */
 
 void FixCGMSFluid::init()

@@ -27,6 +27,7 @@ class FixCGMSFluid : public Fix {
   void setup_pre_force(int) override;
   void pre_force(int) override;
   void min_pre_force(int) override;
+  void post_run() override;
   double compute_scalar() override;
   double compute_vector(int) override;
   void grow_arrays(int) override;
