@@ -24,6 +24,13 @@ MFC = dict(
     self_r0=3.0e-6,          # its radius (= cutoff), m: below the shortest bond (3.96 um)
     lamella_E0=1.45e-11,     # middle lamella: 8-4 LJ between walls of adjacent cells, J
     lamella_rc=12.0e-6,      # its cutoff, m (its radius is the pectin layer d_p)
+    # the middle lamella glues the walls of adjacent cells for good (van Opheusden and
+    # Molenaar, R. Soc. Open Sci. 5, 2018, 181127): "bonded" adds harmonic bonds from every
+    # wall particle to the facing one and its two neighbours (a truss, so walls cannot slide
+    # along each other) on top of the LJ; "lj" is the LJ alone (doc/mfc.md, decisions)
+    lamella="bonded",
+    lamella_k=7.3,           # its bond stiffness, N/m: the LJ's stiffness at d_p, 32 E0 / d_p^2
+    bend_factor=1.0,         # multiplies the thin-plate bending stiffness k_b (MFC.md: up to 10)
     fluid_spacing=5.0e-6,    # SPH fluid lattice, m (656 particles per cell)
     fluid_margin=3.25e-6,    # fluid points at least this far from every wall line, m
 )
@@ -41,7 +48,10 @@ def parameters(material_name="apple", **overrides):
     p["strain_turgid"] = p["P_f"] * p["diameter"] / (2 * p["wall_Et"])
     p["r0_bond"] = math.pi * p["diameter"] / (1 + p["strain_turgid"]) / n
     p["k_bond"] = p["wall_Et"] * p["height"] / p["r0_bond"]          # N/m, F = -k (l - r0)
-    p["k_bend"] = p["wall_Et"] * p["height"] * p["wall_thickness"] ** 2 / (12 * p["r0_bond"])
+    p["k_bend"] = (p["bend_factor"] * p["wall_Et"] * p["height"] * p["wall_thickness"] ** 2
+                   / (12 * p["r0_bond"]))
+    if p["lamella"] not in ("bonded", "lj"):
+        raise ValueError(f"lamella must be 'bonded' or 'lj', got {p['lamella']!r}")
     p["fluid_mass"] = p["rho0"] * p["A_ref"] * p["height"]            # fresh, per cell (kg)
     p["wall_mass"] = p["solid_ratio"] * p["fluid_mass"] / n           # per particle, fresh
     return p
@@ -54,7 +64,9 @@ def level(p, s):
       ``fluid_area = s A0``;
     - turgor: ``P_T = s P_f`` (linear in fluid mass);
     - wall contraction: every bond rest length scales with the perimeter law
-      ``l_d / l0' = 1 - (a/b)(1 - s)`` (CGMS eqn 9, a = 0.2, b = 0.9).
+      ``l_d / l0' = 1 - (a/b)(1 - s)`` (CGMS eqn 9, a = 0.2, b = 0.9); the bonded
+      lamella's diagonals rest at ``sqrt(d_p^2 + r0_bond^2)``, so the lamella is free of
+      stress when both walls are at their rest length and follows their contraction.
 
     Returns a dict with those and the per-particle wall mass (scaled by s too)."""
     s = float(s)
@@ -63,5 +75,6 @@ def level(p, s):
     contraction = float(model.perimeter_contraction(p, s))
     return dict(s=s, fluid_area=s * p["A_ref"], turgor=s * p["P_f"],
                 r0_bond=p["r0_bond"] * contraction, contraction=contraction,
+                r0_diagonal=math.hypot(p["pectin"], p["r0_bond"] * contraction),
                 wall_mass=s * p["wall_mass"])
 

@@ -89,8 +89,13 @@ def level_commands(p, s, fix_id="mfc"):
     fluid's area at rest density and its turgor (``fix mfc/pressure``). Statics do not
     depend on the wall masses, so they keep their fresh value (FIRE's pace)."""
     lv = level(p, s)
+    lamella = []
+    if p.get("lamella", "lj") == "bonded":
+        lamella = [f"bond_coeff 2 {p['lamella_k'] / 2:.10g} {p['pectin']:.10g}",
+                   f"bond_coeff 3 {p['lamella_k'] / 2:.10g} {lv['r0_diagonal']:.10g}"]
     return [
         f"bond_coeff 1 {p['k_bond'] / 2:.10g} {lv['r0_bond']:.10g}",
+        *lamella,
         f"fix {fix_id} all mfc/pressure height {p['height']:.10g} modulus {p['K']:.10g} "
         f"turgor {lv['turgor']:.10g} area {lv['fluid_area']:.10g}",
         f"fix_modify {fix_id} energy yes",

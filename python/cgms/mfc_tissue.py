@@ -102,6 +102,30 @@ def fluid_points(centre, p, angle=math.pi / 2):
     return np.asarray(centre, float) + pts[keep]
 
 
+def bond_types(p):
+    """Bond types of an MFC wall data file: 1 the ring; with the bonded lamella 2 (facing)
+    and 3 (diagonal)."""
+    return 3 if p.get("lamella", "lj") == "bonded" else 1
+
+
+def lamella_bonds(xy, cell, p):
+    """The bonded middle lamella: pairs (i, j) of wall particles of different cells, 0-based,
+    and their bond type: 2 for a particle and the one facing it across the pectin layer
+    (``d_p`` apart as built; at a cell corner, the corners of the two other cells), 3 for
+    the facing particle's neighbours along its wall (the diagonals of the truss, which
+    resist the walls sliding along each other)."""
+    xy, cell = np.asarray(xy, float), np.asarray(cell)
+    spacing = p["b_ref"] / int(p["per_side"])
+    reach = math.hypot(p["pectin"], 1.05 * spacing)
+    pairs = cKDTree(xy).query_pairs(reach, output_type="ndarray")
+    if not len(pairs):
+        return np.zeros((0, 2), int), np.zeros(0, int)
+    pairs = pairs[cell[pairs[:, 0]] != cell[pairs[:, 1]]]
+    d = np.hypot(*(xy[pairs[:, 0]] - xy[pairs[:, 1]]).T)
+    kind = np.where(d < 1.05 * p["pectin"], 2, 3)
+    return pairs, kind
+
+
 def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwrite=False):
     """LAMMPS data file of the wall rings (``atom_style angle``: ``id mol type x y z``),
     with the ring bonds (i -> next, counter-clockwise) and an angle at every wall
@@ -117,15 +141,21 @@ def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwri
     nxt = first + (ids - first + 1) % n
     prv = first + (ids - first - 1) % n
     mass = level(p, s)["wall_mass"]
-    lines = [title, "", f"{len(xy)} atoms", f"{len(xy)} bonds", f"{len(xy)} angles",
-             "3 atom types", "1 bond types", "1 angle types", "",
+    ring = [(1, i, j) for i, j in zip(ids, nxt)]
+    glue = []
+    if p.get("lamella", "lj") == "bonded":
+        pairs, kind = lamella_bonds(xy, w["cell"], p)
+        glue = [(k, i + 1, j + 1) for (i, j), k in zip(pairs, kind)]
+    bonds = ring + glue
+    lines = [title, "", f"{len(xy)} atoms", f"{len(bonds)} bonds", f"{len(xy)} angles",
+             "3 atom types", f"{bond_types(p)} bond types", "1 angle types", "",
              f"{lo[0]:.10e} {hi[0]:.10e} xlo xhi", f"{lo[1]:.10e} {hi[1]:.10e} ylo yhi",
              f"{-margin:.10e} {margin:.10e} zlo zhi", "", "Masses", ""]
     lines += [f"{t} {mass:.10e}" for t in (1, 2, 3)]
     lines += ["", "Atoms # angle", ""]
     lines += [f"{i} {c + 1} {k + 1} {x:.12e} {y:.12e} 0.0"
               for i, c, k, (x, y) in zip(ids, w["cell"], w["colour"], xy)]
-    lines += ["", "Bonds", ""] + [f"{i} 1 {i} {j}" for i, j in zip(ids, nxt)]
+    lines += ["", "Bonds", ""] + [f"{k + 1} {t} {i} {j}" for k, (t, i, j) in enumerate(bonds)]
     lines += ["", "Angles", ""] + [f"{i} 1 {a} {i} {b}" for i, a, b in zip(ids, prv, nxt)]
     folders.write_text(path, "\n".join(lines) + "\n", overwrite)
     assert ncell * n == len(xy)

@@ -149,38 +149,37 @@ void FixMFCPressure::min_post_force(int vflag)
    local indices of the previous and next wall particle of local atom i
    (closest images): the ring is numbered counter-clockwise with consecutive
    IDs, so a partner one ID up is the next, one down the previous, and the
-   bond that closes the ring (first-last) goes the other way
+   bond that closes the ring (first-last) goes the other way. Bond partners
+   in other cells (a bonded middle lamella) are not part of the ring.
 ------------------------------------------------------------------------- */
 
 void FixMFCPressure::ring_partners(int i, int &prev, int &next)
 {
   const tagint me = atom->tag[i];
-  if (atom->nspecial[i][0] != 2)
-    error->one(FLERR,
-               "Fix mfc/pressure: wall particle {} has {} bond partners; each must be "
-               "bonded to exactly its two ring neighbours",
-               me, atom->nspecial[i][0]);
   prev = next = -1;
-  for (int k = 0; k < 2; k++) {
+  int own = 0;
+  for (int k = 0; k < atom->nspecial[i][0]; k++) {
     const tagint other = atom->special[i][k];
     int j = atom->map(other);
     if (j < 0)
       error->one(FLERR,
-                 "Fix mfc/pressure: ring neighbour {} of wall particle {} is missing "
+                 "Fix mfc/pressure: bond partner {} of wall particle {} is missing "
                  "(a wall particle left its processor's ghost region?)",
                  other, me);
     j = domain->closest_image(i, j);
-    if (atom->molecule[j] != atom->molecule[i])
-      error->one(FLERR,
-                 "Fix mfc/pressure: wall particles {} and {} are bonded but belong to "
-                 "cells {} and {}",
-                 me, other, atom->molecule[i], atom->molecule[j]);
+    if (atom->molecule[j] != atom->molecule[i]) continue;
+    own++;
     const bool is_next = (other == me + 1) || (other < me - 1);
     if (is_next)
       next = j;
     else
       prev = j;
   }
+  if (own != 2)
+    error->one(FLERR,
+               "Fix mfc/pressure: wall particle {} has {} bond partners in its own cell; "
+               "each must be bonded to exactly its two ring neighbours",
+               me, own);
   if (prev < 0 || next < 0)
     error->one(FLERR,
                "Fix mfc/pressure: the ring of wall particle {} is not numbered with "
