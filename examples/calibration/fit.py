@@ -39,7 +39,7 @@ PAPER = ["k_T", "k_PA", "beta_a", "beta_b"]
 # search intervals, factors of each fit's start
 # (the first fit drives k_PA to a thousandth of apple's, so its bound starts lower)
 BOUNDS = {"k_T": (0.01, 100.0), "k_PA": (0.0005, 100.0), "beta_a": (0.85, 1.15),
-          "beta_b": (0.2, 5.0), "k_S": (0.01, 100.0)}
+          "beta_b": (0.2, 5.0), "k_S": (0.01, 100.0), "turgid_ratio": (0.9, 1.1)}
 
 
 def main(argv=None):
@@ -51,12 +51,21 @@ def main(argv=None):
     ap.add_argument("--levels", default="1,0.8,0.6",
                     help="levels to fit (default 1,0.8,0.6: the MFC's 0.4 and 0.3 are far "
                          "outside what CGMS can shrink to; doc/calibration.md)")
+    ap.add_argument("--also", default="",
+                    help="material parameters fitted with the paper's four, comma separated "
+                         "(e.g. turgid_ratio: the fresh cell's perimeter, the only thing "
+                         "that sets the size of the fresh tissue; bounds 0.9-1.1)")
     ap.add_argument("--install", action="store_true")
     args = ap.parse_args(argv)
     if args.mfc is None:
         args.mfc = "reference/mfc/" + ("calibration" if args.material == "apple"
                                        else f"{args.material}-calibration")
     levels = [float(w) for w in args.levels.split(",")]
+    fitted = PAPER + [w for w in args.also.split(",") if w]
+    unknown = [w for w in fitted if w not in BOUNDS or w == "k_S"]
+    if unknown:
+        sys.exit(f"fit.py: --also {', '.join(unknown)}: not one of "
+                 f"{', '.join(k for k in BOUNDS if k not in PAPER + ['k_S'])}")
     refs = {s: Path(args.mfc) / f"centroids.s{s:g}.txt" for s in levels}
     missing = [str(p) for p in refs.values() if not p.is_file()]
     if missing:
@@ -76,13 +85,13 @@ def main(argv=None):
     start, levels = None, sorted(refs, reverse=True)
     for n in range(2, len(levels) + 1):
         use = {s: refs[s] for s in levels[:n]}
-        result = calibrate.calibrate(data, args.material, use, out / f"paper-{n}", PAPER,
+        result = calibrate.calibrate(data, args.material, use, out / f"paper-{n}", fitted,
                                      start=start,
-                                     bounds={k: BOUNDS[k] for k in PAPER}, align_mode="rigid",
+                                     bounds={k: BOUNDS[k] for k in fitted}, align_mode="rigid",
                                      max_evaluations=80)
         start = dict(result["parameters"])
         report("paper", n, result)
-    result = calibrate.calibrate(data, args.material, refs, out / "kS", PAPER + ["k_S"],
+    result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
                                  start=dict(start, k_S=0.02), bounds=BOUNDS, align_mode="rigid",
                                  max_evaluations=80)
     report("kS", len(refs), result)
@@ -91,8 +100,9 @@ def main(argv=None):
                                 text=True).stdout.strip()
         lines = Path(result["material_file"]).read_text().splitlines()
         made = [f"# Made by: python3 examples/calibration/fit.py --material {args.material} "
-                f"--mfc {args.mfc} --out {args.out} --levels {args.levels} --install (fit "
-                f"'kS', commit {commit})",
+                f"--mfc {args.mfc} --out {args.out} --levels {args.levels}"
+                + (f" --also {args.also}" if args.also else "")
+                + f" --install (fit 'kS', commit {commit})",
                 f"# References: MFC centroids in {args.mfc} "
                 "(reference/mfc/README.md)"]
         with open(target, "x") as fh:
