@@ -16,6 +16,7 @@ reference/mfc/). Each level takes minutes; run the dried ones with ``--resume``.
 
 import argparse
 import sys
+from datetime import datetime
 from pathlib import Path
 
 from cgms import material, mfc_model, mfc_study, tissue
@@ -72,6 +73,7 @@ def main(argv=None):
     print(f"potato.py: MFC of potato, {len(xy)} cells, turgid wall strain "
           f"{100 * p['strain_turgid']:.2f} %, levels {levels}", flush=True)
     rows = mfc_study.dry(xy, p, folder, levels, say=lambda line: print(line, flush=True))
+    mfc_study.write_table(rows, folder / f"summary-{datetime.now():%H%M%S}.csv")
     for r in rows:
         print(f"  s {r['s']:.2f}  A/A0 {r['A/A0']:.4f}  P/P0 {r['P/P0']:.4f}  "
               f"EL/EL0 {r['EL/EL0']:.4f}  cell A/A0 {r['cell_area/A0']:.4f}  "
