@@ -50,7 +50,7 @@ def glue_fresh_lamella(out, centres, p):
     resume. Returns the data file and the rest lengths."""
     data, table = out / "lamella.data", out / "lamella.txt"
     if data.exists() and table.exists():
-        return data, np.loadtxt(table, ndmin=2)[:, 1]
+        return data, np.loadtxt(table, ndmin=2).reshape(-1, 2)[:, 1]   # one cell: none
     xy = np.loadtxt(out / f"walls.{level_name(1.0)}.dump", skiprows=9, ndmin=2)[:, 3:5]
     w = mfc_tissue.walls(centres, p)
     pairs, types, rest = mfc_tissue.fresh_lamella(xy, w["cell"], p)
