@@ -44,6 +44,10 @@ def main(out, cells, levels, *options):
     results = mfc_study.dry(centres, p, out, levels, say=lambda line: None)
     fresh = None
     print(f"{len(centres)} cells, {over}")
+    built, now = (morphology.measures(np.asarray(c)) for c in
+                  (centres, np.loadtxt(f"{out}/centroids.s1.txt")[:, 1:]))
+    print(f"fresh against built: width {now['width'] / built['width'] - 1:+.2%}, height "
+          f"{now['height'] / built['height'] - 1:+.2%}, area {now['area'] / built['area'] - 1:+.2%}")
     print("    s  cellA   cellP  round  elong   A/A0   P/P0  EL/EL0  shrink(per/int)   conv "
           " shift(um)  iters  secs")
     for r in results:

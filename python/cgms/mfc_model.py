@@ -25,15 +25,21 @@ MFC = dict(
     lamella_E0=1.45e-11,     # middle lamella: 8-4 LJ between walls of adjacent cells, J
     lamella_rc=12.0e-6,      # its cutoff, m (its radius is the pectin layer d_p)
     # the middle lamella glues the walls of adjacent cells for good (van Opheusden and
-    # Molenaar, R. Soc. Open Sci. 5, 2018, 181127): "bonded" adds harmonic bonds from every
-    # wall particle to the facing one and its two neighbours (a truss, so walls cannot slide
-    # along each other) on top of the LJ; "lj" is the LJ alone (doc/mfc.md, decisions)
-    lamella="bonded",
+    # Molenaar, R. Soc. Open Sci. 5, 2018, 181127): harmonic bonds from every wall particle
+    # to the facing one and its two neighbours (a truss, so walls cannot slide along each
+    # other), on top of the LJ. "fresh": set in the relaxed fresh tissue, at rest there
+    # (the fresh tissue is the LJ-only one); "bonded": set in the built hexagons; "facing":
+    # the built facing bonds only; "lj": the LJ alone (doc/mfc.md, decisions)
+    lamella="fresh",
     lamella_k=7.3,           # its bond stiffness, N/m: the LJ's stiffness at d_p, 32 E0 / d_p^2
     bend_factor=1.0,         # multiplies the thin-plate bending stiffness k_b (MFC.md: up to 10)
     fluid_spacing=5.0e-6,    # SPH fluid lattice, m (656 particles per cell)
     fluid_margin=3.25e-6,    # fluid points at least this far from every wall line, m
 )
+
+
+#: the forms of the middle lamella (:data:`MFC`, ``lamella``)
+LAMELLA = ("fresh", "bonded", "facing", "lj")
 
 
 def parameters(material_name="apple", **overrides):
@@ -50,8 +56,8 @@ def parameters(material_name="apple", **overrides):
     p["k_bond"] = p["wall_Et"] * p["height"] / p["r0_bond"]          # N/m, F = -k (l - r0)
     p["k_bend"] = (p["bend_factor"] * p["wall_Et"] * p["height"] * p["wall_thickness"] ** 2
                    / (12 * p["r0_bond"]))
-    if p["lamella"] not in ("bonded", "lj"):
-        raise ValueError(f"lamella must be 'bonded' or 'lj', got {p['lamella']!r}")
+    if p["lamella"] not in LAMELLA:
+        raise ValueError(f"lamella must be one of {', '.join(LAMELLA)}, got {p['lamella']!r}")
     p["fluid_mass"] = p["rho0"] * p["A_ref"] * p["height"]            # fresh, per cell (kg)
     p["wall_mass"] = p["solid_ratio"] * p["fluid_mass"] / n           # per particle, fresh
     return p

@@ -50,9 +50,11 @@ def require_packages(lmp, packages=PACKAGES):
                            + " (./cgms setup does)")
 
 
-def setup_commands(data, p, newton="on", processors=None, boundary="s s p"):
+def setup_commands(data, p, newton="on", processors=None, boundary="s s p", rest=()):
     """LAMMPS commands that read an MFC wall data file (:func:`cgms.mfc_tissue.write_data`)
-    and define the wall forces; the drying levers follow with :func:`level_commands`."""
+    and define the wall forces; the drying levers follow with :func:`level_commands`.
+    ``rest``: the rest lengths of the lamella bond types 2, 3, ... of a lamella set in the
+    fresh tissue (:func:`cgms.mfc_tissue.fresh_lamella`)."""
     per = p["self_r0"]
     lines = [
         "units si",
@@ -76,6 +78,8 @@ def setup_commands(data, p, newton="on", processors=None, boundary="s s p"):
     ]
     lines += [f"pair_coeff {t} {t} {p['self_E0']:.10g} {per:.10g} 8 4 {per:.10g}"
               for t in (1, 2, 3)]
+    lines += [f"bond_coeff {t} {p['lamella_k'] / 2:.10g} {r:.10g}"
+              for t, r in enumerate(rest, start=2)]
     lines += [
         "neighbor 2e-6 bin",
         "neigh_modify every 1 delay 0 check yes",
@@ -90,7 +94,7 @@ def level_commands(p, s, fix_id="mfc"):
     depend on the wall masses, so they keep their fresh value (FIRE's pace)."""
     lv = level(p, s)
     lamella = []
-    if p.get("lamella", "lj") == "bonded":
+    if p.get("lamella", "lj") in ("bonded", "facing"):
         lamella = [f"bond_coeff 2 {p['lamella_k'] / 2:.10g} {p['pectin']:.10g}",
                    f"bond_coeff 3 {p['lamella_k'] / 2:.10g} {lv['r0_diagonal']:.10g}"]
     return [

@@ -43,6 +43,24 @@ def _write_cells(path, cell):
     folders.write_atomic(path, lambda fh: fh.write(text.getvalue().encode()))
 
 
+def glue_fresh_lamella(out, centres, p):
+    """The lamella set in the relaxed fresh tissue of study folder ``out`` (its
+    ``walls.s1.dump``): ``lamella.data`` (the fresh walls with the lamella bonds) and
+    ``lamella.txt`` (the rest length of each bond type), made once and read back on
+    resume. Returns the data file and the rest lengths."""
+    data, table = out / "lamella.data", out / "lamella.txt"
+    if data.exists() and table.exists():
+        return data, np.loadtxt(table, ndmin=2).reshape(-1, 2)[:, 1]   # one cell: none
+    xy = np.loadtxt(out / f"walls.{level_name(1.0)}.dump", skiprows=9, ndmin=2)[:, 3:5]
+    w = mfc_tissue.walls(centres, p)
+    pairs, types, rest = mfc_tissue.fresh_lamella(xy, w["cell"], p)
+    mfc_tissue.write_data(data, centres, p, xy=xy, lamella=(pairs, types), overwrite=True,
+                          title=f"MFC tissue, lamella set in the fresh state: {len(pairs)} bonds")
+    folders.write_text(table, "# bond type, rest length (m)\n" + "".join(
+        f"{t} {r:.10g}\n" for t, r in enumerate(rest, start=2)), overwrite=True)
+    return data, rest
+
+
 def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     """Relax the MFC tissue whose cells sit at ``centres`` (CGMS bead positions, m) at
     every level (descending; the fresh level 1 first, it is the reference), along the
@@ -59,6 +77,7 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     if not data.exists():
         mfc_tissue.write_data(data, centres, p, title=f"MFC tissue: {len(centres)} cells")
     results, previous, lmp = [], None, None
+    glue = p["lamella"] == "fresh"
     fresh = None
     try:
         for s in levels:
@@ -79,7 +98,11 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
                 lmp = run.open_lammps(log=log)
                 mfc_run.require_packages(lmp)
                 source = data if previous is None else out / f"state.{level_name(previous)}.data"
-                lmp.commands_list(mfc_run.setup_commands(source.resolve(), p))
+                rest = ()
+                if glue and previous is not None:   # the lamella set in the fresh state
+                    lamella, rest = glue_fresh_lamella(out, centres, p)
+                    source = lamella if previous == 1.0 else source
+                lmp.commands_list(mfc_run.setup_commands(source.resolve(), p, rest=rest))
             else:
                 lmp.command(f"log {log.resolve()}")
             report = mfc_run.ramp(lmp, p, previous, s, **solver)
@@ -99,6 +122,9 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
             results.append(summary)
             fresh = fresh or summary
             previous = s
+            if glue and s == 1.0:   # the dried levels start from the fresh walls, glued
+                lmp.close()
+                lmp = None
             say(f"cgms mfc: s = {s:g}: cell area / fresh {summary['cell_area/A0']:.4f}, "
                 f"{report['iterations']} iterations, {summary['seconds']:.1f} s"
                 + ("" if report["converged"] else " (NOT converged)"))

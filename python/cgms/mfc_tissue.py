@@ -102,18 +102,13 @@ def fluid_points(centre, p, angle=math.pi / 2):
     return np.asarray(centre, float) + pts[keep]
 
 
-def bond_types(p):
-    """Bond types of an MFC wall data file: 1 the ring; with the bonded lamella 2 (facing)
-    and 3 (diagonal)."""
-    return 3 if p.get("lamella", "lj") == "bonded" else 1
-
-
 def lamella_bonds(xy, cell, p):
     """The bonded middle lamella: pairs (i, j) of wall particles of different cells, 0-based,
-    and their bond type: 2 for a particle and the one facing it across the pectin layer
-    (``d_p`` apart as built; at a cell corner, the corners of the two other cells), 3 for
-    the facing particle's neighbours along its wall (the diagonals of the truss, which
-    resist the walls sliding along each other)."""
+    within ``hypot(d_p, 1.05 l)`` of each other (``l`` the built wall particle spacing), and
+    their kind: 2 for a particle and the one facing it across the pectin layer (closer than
+    ``1.05 d_p``; at a built cell corner, the corners of the two other cells), 3 for the
+    facing particle's neighbours along its wall (the diagonals of the truss, which resist
+    the walls sliding along each other)."""
     xy, cell = np.asarray(xy, float), np.asarray(cell)
     spacing = p["b_ref"] / int(p["per_side"])
     reach = math.hypot(p["pectin"], 1.05 * spacing)
@@ -126,14 +121,40 @@ def lamella_bonds(xy, cell, p):
     return pairs, kind
 
 
-def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwrite=False):
+#: rest lengths of a lamella set in the fresh tissue are binned to this (m): one bond type
+#: per bin (LAMMPS's harmonic bond has one rest length per type)
+REST_BIN = 1e-8
+
+
+def fresh_lamella(xy, cell, p):
+    """The lamella set in a relaxed fresh tissue (wall positions ``xy``): the pairs of
+    :func:`lamella_bonds` there, each at rest at its present length, binned to
+    :data:`REST_BIN`. Returns the pairs (0-based), their bond types (2, 3, ...) and the rest
+    length of each type (index 0 = type 2). Where the fresh cells rounded up and left a gap
+    wider than the reach (at three-cell corners), no bond forms."""
+    xy = np.asarray(xy, float)
+    pairs, _ = lamella_bonds(xy, cell, p)
+    d = np.hypot(*(xy[pairs[:, 0]] - xy[pairs[:, 1]]).T)
+    bins = np.rint(d / REST_BIN).astype(int)
+    used, index = np.unique(bins, return_inverse=True)
+    return pairs, index + 2, used * REST_BIN
+
+
+def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwrite=False,
+               xy=None, lamella=None):
     """LAMMPS data file of the wall rings (``atom_style angle``: ``id mol type x y z``),
-    with the ring bonds (i -> next, counter-clockwise) and an angle at every wall
-    particle (prev, i, next). Wall masses are those of dryness ``s``. Returns the
-    :func:`walls` dict. An existing file is kept unless ``overwrite``."""
+    with the ring bonds (i -> next, counter-clockwise, type 1) and an angle at every wall
+    particle (prev, i, next). Wall masses are those of dryness ``s``. The lamella bonds:
+    ``lamella`` = (pairs, types) as from :func:`fresh_lamella`, else those of ``p``'s
+    lamella at the built walls (types 2 and 3 for "bonded", 2 for "facing", none
+    otherwise). ``xy``: wall positions other than the built ones (same cells, same
+    order). Returns the :func:`walls` dict. An existing file is kept unless ``overwrite``."""
     from .mfc_model import level
     w = walls(centres, p)
-    xy, n, ncell = w["xy"], p["n_wall"], len(centres)
+    xy = w["xy"] if xy is None else np.asarray(xy, float)
+    n, ncell = p["n_wall"], len(centres)
+    if xy.shape != w["xy"].shape:
+        raise ValueError(f"{len(xy)} wall positions for {len(w['xy'])} wall particles")
     margin = 3 * p["x_ref"] if margin is None else margin
     lo, hi = xy.min(axis=0) - margin, xy.max(axis=0) + margin
     ids = np.arange(1, len(xy) + 1)
@@ -142,13 +163,16 @@ def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwri
     prv = first + (ids - first - 1) % n
     mass = level(p, s)["wall_mass"]
     ring = [(1, i, j) for i, j in zip(ids, nxt)]
-    glue = []
-    if p.get("lamella", "lj") == "bonded":
+    if lamella is None and p.get("lamella", "lj") in ("bonded", "facing"):
         pairs, kind = lamella_bonds(xy, w["cell"], p)
-        glue = [(k, i + 1, j + 1) for (i, j), k in zip(pairs, kind)]
+        if p["lamella"] == "facing":   # no diagonals: no shear stiffness to first order
+            pairs, kind = pairs[kind == 2], kind[kind == 2]
+        lamella = pairs, kind
+    glue = [] if lamella is None else [(int(k), i + 1, j + 1) for (i, j), k in zip(*lamella)]
     bonds = ring + glue
+    types = max([1] + [t for t, _, _ in glue])
     lines = [title, "", f"{len(xy)} atoms", f"{len(bonds)} bonds", f"{len(xy)} angles",
-             "3 atom types", f"{bond_types(p)} bond types", "1 angle types", "",
+             "3 atom types", f"{types} bond types", "1 angle types", "",
              f"{lo[0]:.10e} {hi[0]:.10e} xlo xhi", f"{lo[1]:.10e} {hi[1]:.10e} ylo yhi",
              f"{-margin:.10e} {margin:.10e} zlo zhi", "", "Masses", ""]
     lines += [f"{t} {mass:.10e}" for t in (1, 2, 3)]
