@@ -112,3 +112,43 @@ def test_the_86_bead_potato_tissue_dries_to_potatos_steady_state(tmp_path, path)
         want = model.steady_moisture(mat, s)
         assert run["moisture"] == pytest.approx(want, rel=1e-3), s
     assert abs(model.steady_moisture(apple, 0.8) - want) > 0.01 * want
+
+
+def header_levels_and_rmsd():
+    """{s: RMSD (m)} as potato-mfc.cgms's header quotes them ('<r> m (<r/x_ref> x_ref) at
+    s = <s>')."""
+    import re
+    head = " ".join(line[1:] for line in POTATO_MFC.read_text().splitlines()
+                    if line.startswith("#"))
+    quoted = re.findall(r"([0-9.eE+-]+)\s+m\s+\([0-9.eE+-]+\s+x_ref\)\s+at\s+s\s+=\s+([0-9.]+)",
+                        head)
+    return {float(s): float(r) for r, s in quoted}
+
+
+@pytest.mark.skipif(not POTATO_MFC.exists(), reason="no potato-mfc.cgms yet")
+def test_potato_mfc_reproduces_its_fit_and_beats_the_start(tmp_path):
+    """On the 86-bead potato tissue, potato-mfc.cgms gives the RMSD against the committed
+    MFC centroids (reference/mfc/potato-calibration) that its header quotes, at every level
+    it names, and is closer to them than the uncalibrated potato.cgms."""
+    from cgms import positions, superpose
+    require_lammps()
+    quoted = header_levels_and_rmsd()
+    assert set(quoted) == {1.0, 0.8, 0.6}
+    mat = material.read(POTATO_MFC)
+    scale = mat["x_ref"] / material.read(APPLE)["x_ref"]
+    data = tmp_path / "tissue.data"
+    tissue.write_data(data, tissue.rectangle(1.25e-3 * scale, 1.5e-3 * scale, mat["x_ref"]),
+                      3 * mat["x_ref"])
+    folder = ROOT / "reference" / "mfc" / "potato-calibration"
+    total = {}
+    for name, path in (("start", POTATO), ("fitted", POTATO_MFC)):
+        total[name] = 0.0
+        for s, r in quoted.items():
+            ids, q = positions.read_centroids(folder / f"centroids.s{s:g}.txt")
+            run, note = study.relax_or_fallback(data, str(path), s, tmp_path / name / f"{s:g}")
+            assert run["converged"], (name, s, note)
+            got = superpose.rmsd(run["xy"], q[np.argsort(ids)], "rigid")
+            total[name] += got ** 2
+            if name == "fitted":
+                assert got == pytest.approx(r, rel=1e-3), s
+    assert total["fitted"] < 0.25 * total["start"], total
