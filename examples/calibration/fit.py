@@ -56,6 +56,9 @@ def main(argv=None):
                          "(e.g. turgid_ratio: the fresh cell's perimeter, the only thing "
                          "that sets the size of the fresh tissue; bounds 0.9-1.1)")
     ap.add_argument("--install", action="store_true")
+    ap.add_argument("--install-fit", choices=("kS", "paper"), default="kS",
+                    help="which fit --install writes: kS (default) or the last paper-<n> "
+                         "fit, without k_S (when k_S is not determined)")
     args = ap.parse_args(argv)
     if args.mfc is None:
         args.mfc = "reference/mfc/" + ("calibration" if args.material == "apple"
@@ -91,10 +94,13 @@ def main(argv=None):
                                      max_evaluations=80)
         start = dict(result["parameters"])
         report("paper", n, result)
+        paper = result
     result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
                                  start=dict(start, k_S=0.02), bounds=BOUNDS, align_mode="rigid",
                                  max_evaluations=80)
     report("kS", len(refs), result)
+    if args.install_fit == "paper":
+        result = paper
     if args.install:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                                 text=True).stdout.strip()
@@ -102,7 +108,9 @@ def main(argv=None):
         made = [f"# Made by: python3 examples/calibration/fit.py --material {args.material} "
                 f"--mfc {args.mfc} --out {args.out} --levels {args.levels}"
                 + (f" --also {args.also}" if args.also else "")
-                + f" --install (fit 'kS', commit {commit})",
+                + f" --install --install-fit {args.install_fit} (fit "
+                + (f"'paper-{len(levels)}'" if args.install_fit == "paper" else "'kS'")
+                + f", commit {commit})",
                 f"# References: MFC centroids in {args.mfc} "
                 "(reference/mfc/README.md)"]
         with open(target, "x") as fh:
