@@ -55,6 +55,7 @@ sys.path.insert(0, str(REPO / "python"))
 from cgms import material, tissue  # noqa: E402
 
 SECTIONS = ("Pair", "Neigh", "Comm", "Output", "Modify", "Other")
+MIB = 1024 * 1024  # LAMMPS's "Mbytes"
 CUTOFF_XREF = 1.35  # CGMS default cutoff in units of x_ref (src/CGMS/pair_cgms.cpp)
 
 
@@ -258,10 +259,10 @@ def timing(args, mat, common, out, meta):
                    style="cgms" if run["case"] == "A" else "lj/cut", rep=run["rep"],
                    atoms=rec["atoms"], steps=rec["steps"], procs=rec["procs"],
                    neigh_builds=rec["neigh_builds"], loop_s=rec["loop"],
-                   # bytes per bead: LAMMPS's count over all ranks; the heap of rank 0
-                   # over the beads of rank 0 (about atoms / procs)
-                   mem_lammps_b=1e6 * rec["mem_lammps_mb"] * rec["procs"] / rec["atoms"],
-                   heap_b=1e6 * rec["heap_mb"] * rec["procs"] / rec["atoms"])
+                   # bytes per bead (LAMMPS's "Mbytes" are MiB): LAMMPS's count over all
+                   # ranks; the heap of rank 0 over the beads of rank 0 (about atoms / procs)
+                   mem_lammps_b=MIB * rec["mem_lammps_mb"] * rec["procs"] / rec["atoms"],
+                   heap_b=MIB * rec["heap_mb"] * rec["procs"] / rec["atoms"])
         for sec in SECTIONS:
             row[f"{sec.lower()}_s"] = rec[sec.lower()]
         row["loop_ns"] = 1e9 * rec["loop"] / bs
