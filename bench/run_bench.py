@@ -275,8 +275,8 @@ def timing(args, mat, common, out, meta):
     write_csv(out / "runs.csv", rows)
 
     # medians per size and case; ratios of the interleaved A/B pairs, then their median
-    metrics = ["loop_ns", "loop_cpu_ns", "cpu_share", "pair_ns", "modify_ns", "pair_modify_ns", "neigh_ns", "comm_ns",
-               "other_ns"]
+    metrics = ["loop_ns", "loop_cpu_ns", "cpu_share", "pair_ns", "modify_ns", "pair_modify_ns",
+               "neigh_ns", "comm_ns", "other_ns"]
     summary = []
     for tag, n, steps in sizes:
         by = {(r["case"], r["rep"]): r for r in rows if r["size"] == tag}
@@ -304,18 +304,19 @@ def timing(args, mat, common, out, meta):
     print()
     print("ns per bead-step, medians of %d interleaved repeats (A = cgms, B = lj/cut)"
           % args.repeats)
-    hdr = ("size", "beads", "steps", "case", "loop", "loop CPU", "CPU share", "Pair", "Modify", "Pair+Mod", "Neigh",
-           "Comm", "Other", "builds", "B/bead LAMMPS", "B/bead heap")
+    hdr = ("size", "beads", "steps", "case", "loop", "loop CPU", "CPU share", "Pair", "Modify",
+           "Pair+Mod", "Neigh", "Comm", "Other", "builds", "B/bead LAMMPS", "B/bead heap")
     print("| " + " | ".join(hdr) + " |")
     print("|" + "---|" * len(hdr))
     for e in summary:
         for case, name in (("A", "cgms"), ("B", "lj/cut")):
-            print("| %s | %d | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f"
-                  " | %d | %.0f | %.0f |" % (
-                      e["size"], e["atoms"], e["steps"], name, e[f"{case}_loop_ns"],
-                      e[f"{case}_loop_cpu_ns"], e[f"{case}_cpu_share"], e[f"{case}_pair_ns"], e[f"{case}_modify_ns"], e[f"{case}_pair_modify_ns"],
-                      e[f"{case}_neigh_ns"], e[f"{case}_comm_ns"], e[f"{case}_other_ns"],
-                      e[f"{case}_neigh_builds"], e[f"{case}_mem_lammps_b"], e[f"{case}_heap_b"]))
+            cells = [e["size"], e["atoms"], e["steps"], name]
+            cells += ["%.2f" % e[f"{case}_{met}"] for met in
+                      ("loop_ns", "loop_cpu_ns", "cpu_share", "pair_ns", "modify_ns",
+                       "pair_modify_ns", "neigh_ns", "comm_ns", "other_ns")]
+            cells += ["%d" % e[f"{case}_neigh_builds"], "%.0f" % e[f"{case}_mem_lammps_b"],
+                      "%.0f" % e[f"{case}_heap_b"]]
+            print("| " + " | ".join(str(c) for c in cells) + " |")
     print("load average (1, 5, 15 min) before %s, after %s" % (
         " ".join("%.2f" % v for v in meta["load_before"]),
         " ".join("%.2f" % v for v in meta["load_after"])))
