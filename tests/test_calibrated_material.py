@@ -8,7 +8,6 @@ the fit: on the 86-bead tissue it is closer to the MFC centroids than the paper'
 by the RMSD its header records."""
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
