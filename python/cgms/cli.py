@@ -132,7 +132,7 @@ def material_of(args):
 # --------------------------------------------------------------------------- main, study
 
 def dry(out, name, t, mat_file, mat, levels, args):
-    """One tissue through every level: the table, the curves and the snapshots."""
+    """One tissue through every level: the table and the curves."""
     folder = out / name
     folder.mkdir(exist_ok=True)
     data = write_tissue(folder, t, mat)
@@ -148,16 +148,7 @@ def dry(out, name, t, mat_file, mat, levels, args):
         r["tissue"] = name
         r["beads"] = n
     plots.curves(rows, folder / "curves.png", title=f"{name}: {n} beads")
-    fresh = results[int(np.argmax([r["dryness"] for r in results]))]
-    panels_p, panels_s = [], []
-    for r in results:
-        frame = morphology.read_dump(folder / f"tissue.{study.level_name(r['dryness'])}.dump",
-                                     columns=["pressure"])[-1]
-        panels_p.append((f"s = {r['dryness']:g}", frame["xy"], frame["columns"]["pressure"] / 1e3))
-        panels_s.append((f"s = {r['dryness']:g}", r["xy"],
-                         morphology.shrinkage(r["xy"], fresh["xy"])))
-    plots.snapshots(panels_p, folder / "pressure.png", "turgor pressure (kPa)")
-    plots.snapshots(panels_s, folder / "shrinkage.png", "local area shrinkage", cmap="magma")
+    # the pictures of the cells at every level are drawn by pictures.study_pictures
     return rows
 
 
@@ -196,7 +187,7 @@ def main_job(args):
         print_table(rows)
         pictures.study_pictures(out)
         print(f"\ncgms: table {out}/summary-*.csv; plots {out}/curves-all.png, */curves.png, "
-              f"*/cells-*.png, */pressure.png, */shrinkage.png; dumps (OVITO) "
+              f"*/cells-pressure.png, */cells-shrinkage.png; dumps (OVITO) "
               f"{out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
     return 0
 
