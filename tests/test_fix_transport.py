@@ -269,3 +269,36 @@ def test_bad_input_names_the_cause(tmp_path, fix_args, params, message):
     assert proc.returncode != 0
     error = next((line for line in proc.stdout.splitlines() if "ERROR" in line), "")
     assert message in error, proc.stdout[-2000:]
+
+
+def test_coupled_to_fix_cgms_fluid(tmp_path):
+    """The coupling of in.transport on a small tissue: fix cgms/fluid takes each bead's
+    dryness from the fix (f_tr[1]), the dynamics shrinks the tissue between moisture
+    steps, the transport geometry follows it, and the water balance still closes."""
+    from cgmstest import APPLE, XREF
+    xy = tissue.hex_rectangle(6, 7, XREF)
+    tissue.write_data(tmp_path / "t.data", xy, 4 * XREF, overwrite=True)
+    lines = [f"plugin load {PLUGIN}", "units si", "dimension 2", "boundary f f p",
+             "atom_style cgms", "atom_modify map array sort 0 0", "comm_modify vel yes",
+             "read_data t.data", "neighbor 1.5e-5 bin", "neigh_modify every 1 delay 0 check yes",
+             "pair_style cgms", f"pair_coeff * * {APPLE}", "fix fluid all cgms/fluid dryness 1.0",
+             "fix nve all nve", "fix 2d all enforce2d", "timestep 1e-7",
+             "compute area all reduce sum f_fluid[11]", "thermo_style custom step c_area",
+             "run 30000", "variable A0 equal c_area", "variable A0 equal ${A0}",
+             f"fix tr all cgms/transport {PARAMS_FILE} layers 4 dt 10 adapt 0.02 600 "
+             "outline no every 500",
+             "variable s atom f_tr[1]", "fix fluid all cgms/fluid dryness v_s every 500",
+             "run 25000", "run 0",
+             'print "AREA $(c_area/v_A0:%.12g) X $(f_tr[3]:%.12g) BALANCE $(f_tr[7]:%.3e) '
+             'STEPS $(f_tr[14])"',
+             "write_dump all custom out.dump id f_tr[1] f_fluid[2] modify format float %.17g"]
+    proc = run_lmp(tmp_path, "\n".join(lines) + "\n")
+    words = next(line for line in proc.stdout.splitlines() if line.startswith("AREA")).split()
+    area, moisture, balance, steps = (float(words[k]) for k in (1, 3, 5, 7))
+    assert steps == 50                       # one moisture step every 500 MD steps
+    assert moisture < 0.8                    # it dried
+    assert area < 0.95                       # and shrank: the geometry moved
+    assert abs(balance) < 1e-10
+    dump = read_dump(tmp_path / "out.dump")
+    assert dump["f_tr[1]"].min() < 0.9
+    assert np.array_equal(dump["f_fluid[2]"], dump["f_tr[1]"])    # the dryness handed over
