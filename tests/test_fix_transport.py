@@ -302,3 +302,15 @@ def test_coupled_to_fix_cgms_fluid(tmp_path):
     dump = read_dump(tmp_path / "out.dump")
     assert dump["f_tr[1]"].min() < 0.9
     assert np.array_equal(dump["f_fluid[2]"], dump["f_tr[1]"])    # the dryness handed over
+
+
+def test_bead_without_column_is_named(tmp_path):
+    """A bead created after the fix's first run has no moisture column: an ERROR names it
+    (not a zero row in the matrix)."""
+    xy = jittered()
+    tissue.write_data(tmp_path / "t.data", xy, 3 * A, overwrite=True)
+    x, y = xy[0] - (A, 0.0)
+    extra = f"create_atoms 1 single {x!r} {y!r} 0.0 units box\nrun 2\n"
+    proc = run_lmp(tmp_path, script("", 2, dump=False) + extra, check=False)
+    error = next((line for line in proc.stdout.splitlines() if "ERROR" in line), "")
+    assert f"bead {len(xy) + 1} has no moisture column" in error, proc.stdout[-2000:]

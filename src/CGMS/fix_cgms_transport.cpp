@@ -825,7 +825,8 @@ int FixCGMSTransport::solve()
     rz = rz_new;
     for (int n = 0; n < nn; n++) pn[n] = zn[n] + beta * pn[n];
   }
-  if (rnorm > 1e-8 * bnorm)
+  // also a residual that is not a number: never hand on a NaN moisture field
+  if (!(rnorm <= 1e-8 * bnorm))
     error->all(FLERR, "Fix cgms/transport: the moisture step did not converge in {} CG "
                "iterations (residual {:.3g} of the right-hand side)", cg_max, rnorm / bnorm);
   if (comm->me == 0)
