@@ -232,6 +232,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   restart_peratom = 1;
   comm_forward = layers + 2;
   dynamic_group_allow = 0;
+  create_attribute = 1;
 
   FixCGMSTransport::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
@@ -542,6 +543,17 @@ void FixCGMSTransport::geometry()
                "Fix cgms/transport: bead {} has no neighbour within the transport cutoff {} m: "
                "moisture cannot move in or out of it (a tissue that came apart, or set cutoff)",
                first, cutoff);
+
+  tagint bare = MAXTAGINT;
+  for (int i = 0; i < nlocal; i++)
+    if (initialised && !(store[i][layers] > 0.0)) bare = MIN(bare, atom->tag[i]);
+  MPI_Allreduce(&bare, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first != MAXTAGINT)
+    error->all(FLERR,
+               "Fix cgms/transport: bead {} has no moisture column: it was created after the "
+               "fix's first run, or the fix was defined with another ID than the one in the "
+               "restart file",
+               first);
 
   for (int i = 0; i < nlocal; i++) {
     const double s = store[i][layers];
@@ -878,6 +890,13 @@ void FixCGMSTransport::copy_arrays(int i, int j, int)
 {
   for (int m = 0; m < nstore; m++) store[j][m] = store[i][m];
   for (int m = 0; m < 4; m++) out[j][m] = out[i][m];
+}
+
+// a bead created after the fix: no column (an error at the next moisture step)
+void FixCGMSTransport::set_arrays(int i)
+{
+  for (int m = 0; m < nstore; m++) store[i][m] = 0.0;
+  set_output(i);
 }
 
 int FixCGMSTransport::pack_exchange(int i, double *buf)
