@@ -219,6 +219,11 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   nmoves = 0;
   cg_iterations = 0;
   comm_mode = MODE_STATE;
+  // the outputs before the first setup: nothing has dried yet
+  for (double &v : vec) v = 0.0;
+  vec[2] = vec[7] = vec[8] = 1.0;
+  vec[10] = t_air;
+  vec[11] = dt_move;
 
   nstore = layers + 3;
   vector_flag = 1;
