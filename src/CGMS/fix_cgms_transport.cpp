@@ -64,7 +64,8 @@ void gab_activity(double x, double xm, double c, double k, double &aw, double &s
   aw = y / k;
   const double u = 1 - k * aw;
   const double w = 1 - k * aw + c * k * aw;
-  const double dxda = xm * c * k * (u * w + aw * k * w - aw * u * k * (c - 1)) / ((u * w) * (u * w));
+  const double dxda =
+      xm * c * k * (u * w + aw * k * w - aw * u * k * (c - 1)) / ((u * w) * (u * w));
   if (aw >= 1.0) {
     aw = 1.0;
     slope = 0.0;
@@ -82,15 +83,20 @@ inline double series(double g, double alpha)
 /* ---------------------------------------------------------------------- */
 
 FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), list(nullptr), store(nullptr), out(nullptr), nmax_bead(0),
-    rho_s(nullptr), dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr),
-    dn(nullptr), pn(nullptr), diag(nullptr), lower(nullptr), piv(nullptr), mul(nullptr),
-    c1(nullptr), c0(nullptr), c1f(nullptr), c0f(nullptr), bn(nullptr), rn(nullptr), zn(nullptr), qn(nullptr),
+    Fix(lmp, narg, arg), list(nullptr), store(nullptr), out(nullptr), nmax_bead(0), rho_s(nullptr),
+    dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr), dn(nullptr),
+    pn(nullptr), diag(nullptr), lower(nullptr), piv(nullptr), mul(nullptr), c1(nullptr),
+    c0(nullptr), c1f(nullptr), c0f(nullptr), bn(nullptr), rn(nullptr), zn(nullptr), qn(nullptr),
     xnew(nullptr), comm_vec(nullptr)
 {
-  if (narg < 4) error->all(FLERR, "Illegal fix cgms/transport command: fix ID group cgms/transport <params file> keyword value ...");
-  if (igroup != 0) error->all(FLERR, "Fix cgms/transport: group must be all (every bead holds moisture)");
-  if (domain->dimension != 2) error->all(FLERR, "Fix cgms/transport requires dimension 2 (the tissue is a slice)");
+  if (narg < 4)
+    error->all(FLERR,
+               "Illegal fix cgms/transport command: fix ID group cgms/transport <params file> "
+               "keyword value ...");
+  if (igroup != 0)
+    error->all(FLERR, "Fix cgms/transport: group must be all (every bead holds moisture)");
+  if (domain->dimension != 2)
+    error->all(FLERR, "Fix cgms/transport requires dimension 2 (the tissue is a slice)");
   if (strcmp(update->unit_style, "si") != 0)
     error->all(FLERR, "Fix cgms/transport requires units si (its parameters are SI), not units {}",
                update->unit_style);
@@ -130,14 +136,16 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     } else if (key == "dt") {
       need(1);
       dt_move = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-      if (!(dt_move > 0.0)) error->all(FLERR, "Fix cgms/transport dt (s) must be > 0, got {}", dt_move);
+      if (!(dt_move > 0.0))
+        error->all(FLERR, "Fix cgms/transport dt (s) must be > 0, got {}", dt_move);
       iarg += 2;
     } else if (key == "adapt") {
       need(2);
       dx_max = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       dt_max = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
       if (!(dx_max > 0.0) || !(dt_max > 0.0))
-        error->all(FLERR, "Fix cgms/transport adapt dx_max dt_max: both must be > 0, got {} {}", dx_max, dt_max);
+        error->all(FLERR, "Fix cgms/transport adapt dx_max dt_max: both must be > 0, got {} {}",
+                   dx_max, dt_max);
       iarg += 3;
     } else if (key == "layers") {
       need(1);
@@ -148,15 +156,20 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
       need(1);
       faces = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
       if (faces < 0 || faces > 2)
-        error->all(FLERR, "Fix cgms/transport faces must be 0, 1 or 2 (slice faces in air), got {}", faces);
+        error->all(FLERR, "Fix cgms/transport faces must be 0, 1 or 2 (slice faces in air), got {}",
+                   faces);
       iarg += 2;
     } else if (key == "inplane" || key == "outline" || key == "heat" || key == "shrink") {
       need(1);
       int v = utils::logical(FLERR, arg[iarg + 1], false, lmp);
-      if (key == "inplane") inplane = v;
-      else if (key == "outline") outline = v;
-      else if (key == "heat") heat = v;
-      else shrink = v;
+      if (key == "inplane")
+        inplane = v;
+      else if (key == "outline")
+        outline = v;
+      else if (key == "heat")
+        heat = v;
+      else
+        shrink = v;
       iarg += 2;
     } else if (key == "temperature" || key == "humidity" || key == "velocity" || key == "plate" ||
                key == "thickness" || key == "cutoff" || key == "smin") {
@@ -164,20 +177,29 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
       double v = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
       if (key == "temperature") {
         if (v <= -20.0 || v >= 150.0)
-          error->all(FLERR, "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}", v);
+          error->all(
+              FLERR,
+              "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}",
+              v);
         t_air = v;
       } else if (key == "humidity") {
         if (v < 0.0 || v >= 1.0)
-          error->all(FLERR, "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}", v);
+          error->all(FLERR,
+                     "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}", v);
         humidity = v;
       } else {
         if (key == "smin" ? (v < 0.0 || v > 1.0) : (key == "velocity" ? v < 0.0 : !(v > 0.0)))
           error->all(FLERR, "Fix cgms/transport {} out of range: {}", key, v);
-        if (key == "velocity") velocity = v;
-        else if (key == "plate") plate = v;
-        else if (key == "thickness") thickness = v;
-        else if (key == "cutoff") cutoff_user = v;
-        else s_min = v;
+        if (key == "velocity")
+          velocity = v;
+        else if (key == "plate")
+          plate = v;
+        else if (key == "thickness")
+          thickness = v;
+        else if (key == "cutoff")
+          cutoff_user = v;
+        else
+          s_min = v;
       }
       iarg += 2;
     } else if (key == "surface") {
@@ -190,10 +212,12 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
         linear_law = 1;
         hx = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
         xeq = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
-        if (hx < 0.0) error->all(FLERR, "Fix cgms/transport surface linear: h_x must be >= 0, got {}", hx);
+        if (hx < 0.0)
+          error->all(FLERR, "Fix cgms/transport surface linear: h_x must be >= 0, got {}", hx);
         iarg += 4;
       } else
-        error->all(FLERR, "Fix cgms/transport surface must be 'vapour' or 'linear h_x X_eq', got '{}'",
+        error->all(FLERR,
+                   "Fix cgms/transport surface must be 'vapour' or 'linear h_x X_eq', got '{}'",
                    arg[iarg + 1]);
     } else if (key == "tolerance") {
       need(1);
@@ -259,7 +283,7 @@ FixCGMSTransport::~FixCGMSTransport()
   memory->destroy(store);
   memory->destroy(out);
   for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &pn, &diag, &lower, &piv,
-                     &mul, &c1, &c0, &c1f, &c0f, &bn, &rn, &zn, &qn, &xnew})
+                     &mul,   &c1, &c0,   &c1f,     &c0f,  &bn, &rn, &zn, &qn,   &xnew})
     memory->destroy(*p);
 }
 
@@ -277,17 +301,19 @@ int FixCGMSTransport::setmask()
 
 void FixCGMSTransport::read_params(const char *file)
 {
-  const char *names[] = {"X0",      "solids_density", "D_ref",  "T_ref", "D_energy",
-                         "D_moisture", "GAB_Xm",      "GAB_C", "GAB_K"};
-  double *targets[] = {&x0,         &solids_density, &d_ref,  &t_ref, &d_energy,
+  const char *names[] = {"X0",         "solids_density", "D_ref", "T_ref", "D_energy",
+                         "D_moisture", "GAB_Xm",         "GAB_C", "GAB_K"};
+  double *targets[] = {&x0,         &solids_density, &d_ref, &t_ref, &d_energy,
                        &d_moisture, &gab_xm,         &gab_c, &gab_k};
   const int n = 9;
   double values[9];
   if (comm->me == 0) {
     FILE *fp = utils::open_potential(file, lmp, nullptr);
     if (!fp)
-      error->one(FLERR, "Fix cgms/transport: cannot open parameter file {} (looked in the "
-                 "current folder and LAMMPS_POTENTIALS)", file);
+      error->one(FLERR,
+                 "Fix cgms/transport: cannot open parameter file {} (looked in the "
+                 "current folder and LAMMPS_POTENTIALS)",
+                 file);
     std::map<std::string, double> found;
     char line[1024];
     int lineno = 0;
@@ -312,18 +338,21 @@ void FixCGMSTransport::read_params(const char *file)
     fclose(fp);
     std::string missing;
     for (int k = 0; k < n; k++) {
-      if (found.count(names[k])) values[k] = found[names[k]];
-      else missing += std::string(missing.empty() ? "" : ", ") + names[k];
+      if (found.count(names[k]))
+        values[k] = found[names[k]];
+      else
+        missing += std::string(missing.empty() ? "" : ", ") + names[k];
     }
-    if (!missing.empty())
-      error->one(FLERR, "Fix cgms/transport: {} misses {}", file, missing);
+    if (!missing.empty()) error->one(FLERR, "Fix cgms/transport: {} misses {}", file, missing);
   }
   MPI_Bcast(values, n, MPI_DOUBLE, 0, world);
   for (int k = 0; k < n; k++) *targets[k] = values[k];
   if (!(x0 > 0.0) || !(solids_density > 0.0) || d_ref < 0.0 || !(gab_xm > 0.0) || !(gab_c > 1.0) ||
       !(gab_k > 0.0 && gab_k < 1.0))
-    error->all(FLERR, "Fix cgms/transport: {}: needs X0 > 0, solids_density > 0, D_ref >= 0, "
-               "GAB_Xm > 0, GAB_C > 1 and 0 < GAB_K < 1", file);
+    error->all(FLERR,
+               "Fix cgms/transport: {}: needs X0 > 0, solids_density > 0, D_ref >= 0, "
+               "GAB_Xm > 0, GAB_C > 1 and 0 < GAB_K < 1",
+               file);
 }
 
 /* ----------------------------------------------------------------------
@@ -343,7 +372,8 @@ void FixCGMSTransport::air_coefficients()
   const double nu = mu / rho;
   const double pr = mu * cp / k, sc = nu / dva;
   const double re = velocity * plate / nu;
-  const double sh = re < 5e5 ? 0.664 * sqrt(re) * cbrt(sc) : (0.037 * pow(re, 0.8) - 871.0) * cbrt(sc);
+  const double sh = re < 5e5 ? 0.664 * sqrt(re) * cbrt(sc)
+                             : (0.037 * pow(re, 0.8) - 871.0) * cbrt(sc);
   kc = sh * dva / plate;
   hc = kc * rho * cp * pow(sc / pr, 2.0 / 3.0);
 }
@@ -353,14 +383,17 @@ void FixCGMSTransport::air_coefficients()
 void FixCGMSTransport::init()
 {
   if (!force->pair && cutoff_user <= 0.0)
-    error->all(FLERR, "Fix cgms/transport needs a pair style or the cutoff keyword: its neighbours "
+    error->all(FLERR,
+               "Fix cgms/transport needs a pair style or the cutoff keyword: its neighbours "
                "are the beads within that distance");
   cutoff = cutoff_user > 0.0 ? cutoff_user : force->pair->cutforce;
   double ghost = comm->cutghostuser;
   if (force->pair) ghost = MAX(force->pair->cutforce + neighbor->skin, ghost);
   if (cutoff + neighbor->skin > ghost)
-    error->all(FLERR, "Fix cgms/transport cutoff {} m plus skin exceeds the ghost range {} m: "
-               "use comm_modify cutoff", cutoff, ghost);
+    error->all(FLERR,
+               "Fix cgms/transport cutoff {} m plus skin exceeds the ghost range {} m: "
+               "use comm_modify cutoff",
+               cutoff, ghost);
   auto req = neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
   if (cutoff_user > 0.0) req->set_cutoff(cutoff_user + neighbor->skin);
 }
@@ -577,8 +610,7 @@ void FixCGMSTransport::geometry()
 
 double FixCGMSTransport::diffusivity(double x, double t) const
 {
-  const double arrhenius =
-      exp(-d_energy / R_GAS * (1.0 / (t + KELVIN) - 1.0 / (t_ref + KELVIN)));
+  const double arrhenius = exp(-d_energy / R_GAS * (1.0 / (t + KELVIN) - 1.0 / (t_ref + KELVIN)));
   return d_ref * arrhenius * exp(d_moisture * (x / x0 - 1.0));
 }
 
@@ -633,13 +665,17 @@ double FixCGMSTransport::product_temperature()
   if (evaporation(t_air) >= 0.0) return t_air;
   double lo = -20.0, hi = t_air;
   if (evaporation(lo) <= 0.0)
-    error->all(FLERR, "Fix cgms/transport: no product temperature above -20 C balances the "
-               "evaporation (air at {} C)", t_air);
+    error->all(FLERR,
+               "Fix cgms/transport: no product temperature above -20 C balances the "
+               "evaporation (air at {} C)",
+               t_air);
   // bisection to 1e-10 K: each probe is one sum over the surface nodes
   while (hi - lo > 1e-10) {
     const double mid = 0.5 * (lo + hi);
-    if (evaporation(mid) > 0.0) lo = mid;
-    else hi = mid;
+    if (evaporation(mid) > 0.0)
+      lo = mid;
+    else
+      hi = mid;
   }
   return 0.5 * (lo + hi);
 }
@@ -716,7 +752,8 @@ void FixCGMSTransport::assemble(double dt)
         const double r = pair_dist[k];
         for (int l = 0; l < layers; l++) {
           const double dm = 0.5 * (d[l] + dn[j * layers + l]);
-          const double g = dm * 0.5 * (rho_s[i] + rho_s[j]) * (r / root3) * 0.5 * (dz[i] + dz[j]) / r;
+          const double g =
+              dm * 0.5 * (rho_s[i] + rho_s[j]) * (r / root3) * 0.5 * (dz[i] + dz[j]) / r;
           pair_g[(size_t) k * layers + l] = g;
           diag[i * layers + l] += g;
         }
@@ -741,8 +778,7 @@ void FixCGMSTransport::assemble(double dt)
       for (int l = 0; l < layers; l++) {
         const int n = i * layers + l;
         surface_law(xn[n], rho_sat_p, rho_air, alpha, beta);
-        const double share =
-            series(d[l] * rho_s[i] / (0.5 * spacing[i]), alpha) * edge[i] * dz[i];
+        const double share = series(d[l] * rho_s[i] / (0.5 * spacing[i]), alpha) * edge[i] * dz[i];
         c1[n] += share * alpha;
         c0[n] += share * beta;
       }
@@ -844,11 +880,15 @@ int FixCGMSTransport::solve()
   }
   // also a residual that is not a number: never hand on a NaN moisture field
   if (!(rnorm <= 1e-8 * bnorm))
-    error->all(FLERR, "Fix cgms/transport: the moisture step did not converge in {} CG "
-               "iterations (residual {:.3g} of the right-hand side)", cg_max, rnorm / bnorm);
+    error->all(FLERR,
+               "Fix cgms/transport: the moisture step did not converge in {} CG "
+               "iterations (residual {:.3g} of the right-hand side)",
+               cg_max, rnorm / bnorm);
   if (comm->me == 0)
-    error->warning(FLERR, "Fix cgms/transport: CG stopped at a residual of {:.3g} of the "
-                   "right-hand side (tolerance {:.3g})", rnorm / bnorm, cg_tol);
+    error->warning(FLERR,
+                   "Fix cgms/transport: CG stopped at a residual of {:.3g} of the "
+                   "right-hand side (tolerance {:.3g})",
+                   rnorm / bnorm, cg_tol);
   return it;
 }
 
@@ -924,9 +964,17 @@ int FixCGMSTransport::unpack_exchange(int nlocal, double *buf)
 void FixCGMSTransport::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
-  double list_out[11] = {(double) layers, (double) faces, time,      water0,
-                         out_face,        out_edge,       rate,      t_product,
-                         dt_move,         (double) nmoves, (double) initialised};
+  double list_out[11] = {(double) layers,
+                         (double) faces,
+                         time,
+                         water0,
+                         out_face,
+                         out_edge,
+                         rate,
+                         t_product,
+                         dt_move,
+                         (double) nmoves,
+                         (double) initialised};
   int size = sizeof(list_out);
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(list_out, sizeof(list_out), 1, fp);
@@ -936,9 +984,10 @@ void FixCGMSTransport::restart(char *buf)
 {
   auto *list_in = (double *) buf;
   if ((int) list_in[0] != layers || (int) list_in[1] != faces)
-    error->all(FLERR, "Fix cgms/transport: the restart file holds {} layers and faces {}; this "
-               "fix has layers {} faces {}: give the same", (int) list_in[0], (int) list_in[1],
-               layers, faces);
+    error->all(FLERR,
+               "Fix cgms/transport: the restart file holds {} layers and faces {}; this "
+               "fix has layers {} faces {}: give the same",
+               (int) list_in[0], (int) list_in[1], layers, faces);
   time = list_in[2];
   water0 = list_in[3];
   out_face = list_in[4];
@@ -981,8 +1030,8 @@ int FixCGMSTransport::maxsize_restart()
 
 double FixCGMSTransport::memory_usage()
 {
-  return sizeof(double) * ((double) atom->nmax * (nstore + 4) + 5.0 * nmax_bead +
-                           17.0 * nmax_bead * layers + (double) pair_g.size() +
-                           (double) pair_dist.size()) +
+  return sizeof(double) *
+      ((double) atom->nmax * (nstore + 4) + 5.0 * nmax_bead + 17.0 * nmax_bead * layers +
+       (double) pair_g.size() + (double) pair_dist.size()) +
       sizeof(int) * ((double) pair_j.size() + pair_start.size());
 }

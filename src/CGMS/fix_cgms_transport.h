@@ -58,13 +58,13 @@ class FixCGMSTransport : public Fix {
   int layers, faces, multiplicity;
   int inplane, outline, heat, shrink;
   double t_air, humidity, velocity, plate, thickness;
-  double kc, hc;           // air-side mass (m/s) and heat (W/(m^2 K)) coefficients
-  int linear_law;          // 1: N = hx (X - xeq) (Crank's boundary condition)
+  double kc, hc;     // air-side mass (m/s) and heat (W/(m^2 K)) coefficients
+  int linear_law;    // 1: N = hx (X - xeq) (Crank's boundary condition)
   double hx, xeq;
   double cutoff, cutoff_user;
-  double s_min;            // lowest dryness handed to the mechanics
-  double dt_move;          // length of the next moisture step (s)
-  double dx_max, dt_max;   // adaptive step (dx_max <= 0: fixed)
+  double s_min;             // lowest dryness handed to the mechanics
+  double dt_move;           // length of the next moisture step (s)
+  double dx_max, dt_max;    // adaptive step (dx_max <= 0: fixed)
   double cg_tol;
   int cg_max;
 
@@ -86,7 +86,7 @@ class FixCGMSTransport : public Fix {
   double *rho_s, *dz, *area, *spacing, *edge;
   double *xn, *dn, *pn;    // node moisture, diffusivity, CG direction (layers per bead)
   double *diag, *lower, *piv, *mul, *c1, *c0, *c1f, *c0f, *bn, *rn, *zn, *qn, *xnew;
-  double *comm_vec;    // the node array MODE_DIRECTION sends
+  double *comm_vec;                       // the node array MODE_DIRECTION sends
   std::vector<int> pair_start, pair_j;    // in-plane neighbours of each local bead
   std::vector<double> pair_dist;          // their centre distance
   std::vector<double> pair_g;             // their conductance per layer
