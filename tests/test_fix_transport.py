@@ -6,7 +6,6 @@
 water balance, MPI, restart and bad input (doc/fix_cgms_transport.rst). The mechanics is
 frozen here (pair_style zero, no integrator): the beads keep their positions."""
 
-import math
 from pathlib import Path
 
 import numpy as np
@@ -133,7 +132,8 @@ CASES = {
 
 
 def switches(case):
-    words = [f"faces {case.get('faces', 2)}", f"outline {'yes' if case.get('outline', True) else 'no'}",
+    words = [f"faces {case.get('faces', 2)}",
+             f"outline {'yes' if case.get('outline', True) else 'no'}",
              f"inplane {'yes' if case.get('inplane', True) else 'no'}"]
     return " ".join(words)
 

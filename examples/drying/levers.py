@@ -91,7 +91,9 @@ def main():
             print(f"| dynamics, every {every} | {at(0.5, x, t):.3f} | {at(0.1, x, t):.3f} | "
                   f"{at(0.8, x, aa):.4f} | {at(0.5, x, aa):.4f} | {at(0.35, x, aa):.4f} | "
                   f"{len(r) - 1} | {wall:.1f} |")
-        sizes = ([] if args.no_micro else [("247 beads", 12.6, 9.0)]) + ([("20 273 beads", 132.3, 76.4)] if args.macro else [])
+        sizes = [] if args.no_micro else [("247 beads", 12.6, 9.0)]
+        if args.macro:
+            sizes.append(("20 273 beads", 132.3, 76.4))
         for name, nx, ny in sizes:
             script = FROZEN.format(nx=nx, ny=ny, nx4=nx + 4, ny4=ny + 4, outline=outline)
             out, wall = lmp(tmp, [], script)
