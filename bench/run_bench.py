@@ -55,6 +55,7 @@ sys.path.insert(0, str(REPO / "python"))
 from cgms import material, tissue  # noqa: E402
 
 SECTIONS = ("Pair", "Neigh", "Comm", "Output", "Modify", "Other")
+MIB = 1024 * 1024  # LAMMPS's "Mbytes"
 CUTOFF_XREF = 1.35  # CGMS default cutoff in units of x_ref (src/CGMS/pair_cgms.cpp)
 
 
@@ -198,8 +199,18 @@ def parse_log(text):
             if not sm:
                 raise RuntimeError(f"run {label}: no '{sec}' line in the timing breakdown")
             rec[sec.lower()] = float(sm.group(2))  # avg column
+        # the share of the loop rank 0 was on a core: on a shared machine the loop's
+        # CPU time (loop x share) is the steadier measure
+        cm = re.search(r"^([\d.]+)% CPU use with", body, flags=re.M)
+        rec["cpu_share"] = float(cm.group(1)) / 100 if cm else float("nan")
         bm = re.search(r"Neighbor list builds = (\d+)", body)
         rec["neigh_builds"] = int(bm.group(1)) if bm else -1
+        # memory: LAMMPS's own count (avg per rank, from the styles' memory_usage) and
+        # the heap in use on rank 0 after the run (info memory: every array, counted or not)
+        mm = re.search(r"Per MPI rank memory allocation \(min/avg/max\) = \S+ \| (\S+) \|", body)
+        rec["mem_lammps_mb"] = float(mm.group(1)) if mm else float("nan")
+        hm = re.search(r"Current reserved memory pool size: (\S+) Mbyte", body)
+        rec["heap_mb"] = float(hm.group(1)) if hm else float("nan")
         out[label] = rec
     return out
 
@@ -247,10 +258,16 @@ def timing(args, mat, common, out, meta):
         row = dict(size=run["size"], case=run["case"],
                    style="cgms" if run["case"] == "A" else "lj/cut", rep=run["rep"],
                    atoms=rec["atoms"], steps=rec["steps"], procs=rec["procs"],
-                   neigh_builds=rec["neigh_builds"], loop_s=rec["loop"])
+                   neigh_builds=rec["neigh_builds"], loop_s=rec["loop"],
+                   # bytes per bead (LAMMPS's "Mbytes" are MiB): LAMMPS's count over all
+                   # ranks; the heap of rank 0 over the beads of rank 0 (about atoms / procs)
+                   mem_lammps_b=MIB * rec["mem_lammps_mb"] * rec["procs"] / rec["atoms"],
+                   heap_b=MIB * rec["heap_mb"] * rec["procs"] / rec["atoms"])
         for sec in SECTIONS:
             row[f"{sec.lower()}_s"] = rec[sec.lower()]
         row["loop_ns"] = 1e9 * rec["loop"] / bs
+        row["cpu_share"] = rec["cpu_share"]
+        row["loop_cpu_ns"] = row["loop_ns"] * rec["cpu_share"]
         for sec in SECTIONS:
             row[f"{sec.lower()}_ns"] = 1e9 * rec[sec.lower()] / bs
         row["pair_modify_ns"] = row["pair_ns"] + row["modify_ns"]
@@ -258,20 +275,20 @@ def timing(args, mat, common, out, meta):
     write_csv(out / "runs.csv", rows)
 
     # medians per size and case; ratios of the interleaved A/B pairs, then their median
-    metrics = ["loop_ns", "pair_ns", "modify_ns", "pair_modify_ns", "neigh_ns", "comm_ns",
-               "other_ns"]
+    metrics = ["loop_ns", "loop_cpu_ns", "cpu_share", "pair_ns", "modify_ns", "pair_modify_ns",
+               "neigh_ns", "comm_ns", "other_ns"]
     summary = []
     for tag, n, steps in sizes:
         by = {(r["case"], r["rep"]): r for r in rows if r["size"] == tag}
         reps = sorted({rep for (_, rep) in by})
         entry = dict(size=tag, atoms=n, steps=steps, repeats=len(reps))
         for case in "AB":
-            for met in metrics + ["neigh_builds"]:
+            for met in metrics + ["neigh_builds", "mem_lammps_b", "heap_b"]:
                 vals = [by[(case, rep)][met] for rep in reps]
                 entry[f"{case}_{met}"] = statistics.median(vals)
             entry[f"{case}_loop_ns_min"] = min(by[(case, rep)]["loop_ns"] for rep in reps)
             entry[f"{case}_loop_ns_max"] = max(by[(case, rep)]["loop_ns"] for rep in reps)
-        for met in ["loop_ns", "pair_ns", "modify_ns", "pair_modify_ns"]:
+        for met in ["loop_ns", "loop_cpu_ns", "pair_ns", "modify_ns", "pair_modify_ns"]:
             ratios = [by[("A", rep)][met] / by[("B", rep)][met] for rep in reps]
             entry[f"ratio_{met}"] = statistics.median(ratios)
             entry[f"ratio_{met}_min"] = min(ratios)
@@ -287,23 +304,29 @@ def timing(args, mat, common, out, meta):
     print()
     print("ns per bead-step, medians of %d interleaved repeats (A = cgms, B = lj/cut)"
           % args.repeats)
-    hdr = ("size", "beads", "steps", "case", "loop", "Pair", "Modify", "Pair+Mod", "Neigh",
-           "Comm", "Other", "builds")
+    hdr = ("size", "beads", "steps", "case", "loop", "loop CPU", "CPU share", "Pair", "Modify",
+           "Pair+Mod", "Neigh", "Comm", "Other", "builds", "B/bead LAMMPS", "B/bead heap")
     print("| " + " | ".join(hdr) + " |")
     print("|" + "---|" * len(hdr))
     for e in summary:
         for case, name in (("A", "cgms"), ("B", "lj/cut")):
-            print("| %s | %d | %d | %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %d |" % (
-                e["size"], e["atoms"], e["steps"], name, e[f"{case}_loop_ns"], e[f"{case}_pair_ns"],
-                e[f"{case}_modify_ns"], e[f"{case}_pair_modify_ns"], e[f"{case}_neigh_ns"],
-                e[f"{case}_comm_ns"], e[f"{case}_other_ns"], e[f"{case}_neigh_builds"]))
+            cells = [e["size"], e["atoms"], e["steps"], name]
+            cells += ["%.2f" % e[f"{case}_{met}"] for met in
+                      ("loop_ns", "loop_cpu_ns", "cpu_share", "pair_ns", "modify_ns",
+                       "pair_modify_ns", "neigh_ns", "comm_ns", "other_ns")]
+            cells += ["%d" % e[f"{case}_neigh_builds"], "%.0f" % e[f"{case}_mem_lammps_b"],
+                      "%.0f" % e[f"{case}_heap_b"]]
+            print("| " + " | ".join(str(c) for c in cells) + " |")
+    print("load average (1, 5, 15 min) before %s, after %s" % (
+        " ".join("%.2f" % v for v in meta["load_before"]),
+        " ".join("%.2f" % v for v in meta["load_after"])))
     print()
     print("median A/B ratio of interleaved pairs [min-max]")
-    print("| size | loop | Pair | Modify | Pair+Modify | (Pair+fix)/lj Pair |")
-    print("|---|---|---|---|---|---|")
+    print("| size | loop | loop CPU | Pair | Modify | Pair+Modify | (Pair+fix)/lj Pair |")
+    print("|---|---|---|---|---|---|---|")
     for e in summary:
         cells = ["%.2f [%.2f-%.2f]" % (e[f"ratio_{m}"], e[f"ratio_{m}_min"], e[f"ratio_{m}_max"])
-                 for m in ("loop_ns", "pair_ns", "modify_ns", "pair_modify_ns")]
+                 for m in ("loop_ns", "loop_cpu_ns", "pair_ns", "modify_ns", "pair_modify_ns")]
         print("| %s | %s | %.2f |" % (e["size"], " | ".join(cells), e["ratio_pairfix_vs_ljpair"]))
     return summary
 

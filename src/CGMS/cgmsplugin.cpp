@@ -6,7 +6,7 @@
 
    Registers every CGMS style. `plugin load cgmsplugin.so` (or a folder in
    LAMMPS_PLUGIN_PATH) makes atom_style cgms, pair_style cgms and
-   fix cgms/fluid available.
+   fix cgms/fluid and fix cgms/transport available.
 ------------------------------------------------------------------------- */
 
 #include "lammpsplugin.h"
@@ -16,6 +16,7 @@
 #include "comm.h"
 #include "error.h"
 #include "fix_cgms_fluid.h"
+#include "fix_cgms_transport.h"
 #include "fix_mfc_pressure.h"
 #include "lammps.h"
 #include "pair_cgms.h"
@@ -33,6 +34,11 @@ static Pair *pair_cgms_creator(LAMMPS *lmp)
 static Fix *fix_cgms_fluid_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixCGMSFluid(lmp, argc, argv);
+}
+
+static Fix *fix_cgms_transport_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixCGMSTransport(lmp, argc, argv);
 }
 
 static Fix *fix_mfc_pressure_creator(LAMMPS *lmp, int argc, char **argv)
@@ -75,6 +81,11 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
   plugin.name = "cgms/fluid";
   plugin.info = "CGMS fix: virtual-cell geometry, turgor pressure and mass transfer";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_cgms_fluid_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "cgms/transport";
+  plugin.info = "CGMS fix: moisture transport through the slice and into air (drying over time)";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_cgms_transport_creator;
   (*register_plugin)(&plugin, lmp);
 
   plugin.name = "mfc/pressure";

@@ -117,9 +117,10 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    dryness_changed(0), coef(nullptr), sums(nullptr), nmax_bead(0), rdist(nullptr), rdist_size(0),
-    rdist_list(nullptr), rdist_valid(0), comm_column(COEF), work(nullptr), nmax_work(0),
-    energy_local(0.0), vector_step(-1), setup_done(0)
+    dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr), sums(nullptr),
+    nmax_bead(0), rdist(nullptr), rdist_size(0), rdist_builds(-1), rdist_list(nullptr),
+    rdist_valid(0), comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0),
+    vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -194,7 +195,8 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   peratom_freq = 1;
   comm_forward = 1;
   comm_reverse = 2;
-  wd_section = 1;    // the fluid state travels with write_data
+  wd_section = 1;          // the fluid state travels with write_data
+  create_attribute = 1;    // set_arrays() learns of beads created during a run
 
   array_atom = bead_array(lmp);
   atom->add_callback(Atom::GROW);
@@ -353,6 +355,16 @@ void FixCGMSFluid::grow_arrays(int)
 }
 
 /* ----------------------------------------------------------------------
+   a bead created during a run (fix deposit, fix pour: Modify::create_attribute)
+   has no fluid state; the next fluid pass looks for such beads
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::set_arrays(int)
+{
+  beads_added = 1;
+}
+
+/* ----------------------------------------------------------------------
    setup: dryness from the keyword, fresh state for new beads, then the
    geometry and pressure the first force evaluation needs
 ------------------------------------------------------------------------- */
@@ -365,6 +377,8 @@ void FixCGMSFluid::setup_pre_force(int)
   const bigint loaded = load_data_file_state();
   apply_dryness();
   const bigint fresh = initialise_beads();
+  beads_added = 0;
+  natoms_known = atom->natoms;
   update_fluid_state(0);
   if (fresh > 0 && loaded == 0) warn_if_dried(fresh);
   setup_done = 1;
@@ -692,12 +706,16 @@ void FixCGMSFluid::geometry_pass()
     memory->create(coef, nmax_bead, "cgms/fluid:coef");
     memory->create(sums, 2 * nmax_bead, "cgms/fluid:sums");
   }
-  bigint npairs = 0;
-  for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
-  if (npairs > rdist_size) {
-    rdist_size = npairs + npairs / 4;
-    memory->destroy(rdist);
-    memory->create(rdist, rdist_size, "cgms/fluid:rdist");
+  // the list's length changes only when it is built
+  if (neighbor->ncalls != rdist_builds || list->firstneigh != rdist_list) {
+    rdist_builds = neighbor->ncalls;
+    bigint npairs = 0;
+    for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
+    if (npairs > rdist_size) {
+      rdist_size = npairs + npairs / 4;
+      memory->destroy(rdist);
+      memory->create(rdist, rdist_size, "cgms/fluid:rdist");
+    }
   }
   // local copies: the loops then keep them in registers
   double *const sums = this->sums;
@@ -715,8 +733,9 @@ void FixCGMSFluid::geometry_pass()
     const int i = ilist[ii];
     const double xtmp = x[i][0];
     const double ytmp = x[i][1];
-    const double si = cg[i][DRYNESS];
-    // dryness is mostly uniform: one log per change of s, not per bead
+    // the per-bead row only for a cutoff that varies by pair (a cache line per bead
+    // on large tissues); there one log per change of s, not per bead
+    const double si = per_pair_cutoff ? cg[i][DRYNESS] : 0.0;
     if (per_pair_cutoff && si != s_last) {
       s_last = si;
       rad_last = mat.lj_radius(si);
@@ -802,18 +821,26 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
   const StepLimits limits(*pair, dt);
   // found beads in locals (registers) during the loop, into trouble after it
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
-  int fresh = -1;
   double stiff_ratio = 0.0, stiff_limit = 0.0;
   const double *const sums = this->sums;
   double *const coef = this->coef;
 
+  // beads without a fluid state (MF0 <= 0) can appear only where beads were created
+  // during the run (set_arrays) or the atom count changed: looked for only then, not
+  // for every bead in every step
+  if (beads_added || atom->natoms != natoms_known) {
+    for (int i = 0; i < nlocal; i++)
+      if (cg[i][MF0] <= 0.0) {
+        trouble.fresh = i;
+        return;
+      }
+    beads_added = 0;
+    natoms_known = atom->natoms;
+  }
+
   double s_prev = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
-    if (c[MF0] <= 0.0) {
-      if (fresh < 0) fresh = i;
-      continue;
-    }
 
     // mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
     if (advance_mass) {
@@ -946,7 +973,6 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
   trouble.unstable = unstable;
   trouble.stiff = stiff;
   trouble.shaky = shaky;
-  trouble.fresh = fresh;
   trouble.stiff_ratio = stiff_ratio;
   trouble.stiff_limit = stiff_limit;
 }

@@ -31,6 +31,7 @@ class FixCGMSFluid : public Fix {
   double compute_scalar() override;
   double compute_vector(int) override;
   void grow_arrays(int) override;
+  void set_arrays(int) override;
 
   void write_data_section_size(int, int &, int &) override;
   void write_data_section_pack(int, double **) override;
@@ -74,6 +75,8 @@ class FixCGMSFluid : public Fix {
   int minimize_balance;     // 1: under minimize, P = -Pi (quasi-static solve); 0: from m_f
   int allow_isolated;       // a bead without neighbours: error (0) or reference cell (1)
   int dryness_changed;      // a bead with a fluid state got a new dryness since the last pass
+  int beads_added;          // set_arrays: a bead was created during the run (fix deposit ...)
+  bigint natoms_known;      // atom count when the beads were last known to have a fluid state
 
   // compact per-bead copies of what the per-pair loops touch, so that a
   // neighbour costs 8 or 16 bytes instead of a 112-byte row
@@ -82,8 +85,9 @@ class FixCGMSFluid : public Fix {
   int nmax_bead;    // length of coef (sums: twice that)
   double *rdist;    // distance per neighbour-list entry (see distances_for)
   bigint rdist_size;
-  int **rdist_list;    // firstneigh of the list rdist follows
-  int rdist_valid;     // set by the geometry pass, cleared by the pair after use
+  bigint rdist_builds;    // neighbor->ncalls when rdist was sized for the list
+  int **rdist_list;       // firstneigh of the list rdist follows
+  int rdist_valid;        // set by the geometry pass, cleared by the pair after use
 
   int comm_column;    // column sent by forward communication
   double *work;       // per-bead values of a keyword (dryness, diameter)

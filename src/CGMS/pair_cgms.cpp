@@ -289,13 +289,17 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     const double ci = PAIRCOEF ? coef[i] : 0.0;
     const double vxi = v[i][0];
     const double vyi = v[i][1];
-    const double si = cg[i][CGMS::DRYNESS];
-    // dryness is mostly uniform: one log per change of s, not per bead
-    if (si != s_last) {
-      s_last = si;
-      rad_last = mat.lj_radius(si);
+    // with a uniform dryness the loop never touches the per-bead row (a cache
+    // line per bead on large tissues); else one log per change of s, not per bead
+    double si = 0.0, radi = rad_uniform;
+    if (!uniform) {
+      si = cg[i][CGMS::DRYNESS];
+      if (si != s_last) {
+        s_last = si;
+        rad_last = mat.lj_radius(si);
+      }
+      radi = rad_last;
     }
-    const double radi = rad_last;
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     double fxtmp = 0.0, fytmp = 0.0;

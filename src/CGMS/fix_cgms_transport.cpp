@@ -1,0 +1,1037 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
+------------------------------------------------------------------------- */
+
+#include "fix_cgms_transport.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neigh_request.h"
+#include "neighbor.h"
+#include "pair.h"
+#include "tokenizer.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+#include <map>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+namespace {
+constexpr double R_GAS = 8.314462618;    // J/(mol K)
+constexpr double M_WATER = 0.018015;     // kg/mol
+constexpr double M_AIR = 0.028965;       // kg/mol
+constexpr double KELVIN = 273.15;
+constexpr double P_ATM = 101325.0;    // Pa
+constexpr int NVECTOR = 14;
+enum { MODE_STATE, MODE_DIRECTION };
+
+// the functions of python/cgms/transport.py, one to one (their docstrings cite the sources)
+double saturation_pressure(double t)
+{
+  return 611.21 * exp((18.678 - t / 234.5) * (t / (257.14 + t)));
+}
+
+double vapour_density(double p, double t)
+{
+  return p * M_WATER / (R_GAS * (t + KELVIN));
+}
+
+double latent_heat(double t)
+{
+  return 2.501e6 - 2.44e3 * t;
+}
+
+// GAB isotherm inverted: water activity and d aw / dX at dry-basis moisture x
+void gab_activity(double x, double xm, double c, double k, double &aw, double &slope)
+{
+  x = MAX(x, 1e-12);
+  const double a = x * (c - 1);
+  const double b = -(x * (c - 2) - xm * c);
+  const double disc = sqrt(b * b + 4 * a * x);
+  const double y = fabs(a) > 1e-300 ? (-b + disc) / (2 * a) : x / (b == 0.0 ? 1.0 : b);
+  aw = y / k;
+  const double u = 1 - k * aw;
+  const double w = 1 - k * aw + c * k * aw;
+  const double dxda =
+      xm * c * k * (u * w + aw * k * w - aw * u * k * (c - 1)) / ((u * w) * (u * w));
+  if (aw >= 1.0) {
+    aw = 1.0;
+    slope = 0.0;
+  } else
+    slope = 1.0 / dxda;
+}
+
+// share of the surface law that reaches a node through a half-cell conductance g
+inline double series(double g, double alpha)
+{
+  return g / (g + alpha);
+}
+}    // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg), list(nullptr), store(nullptr), out(nullptr), nmax_bead(0), rho_s(nullptr),
+    dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr), dn(nullptr),
+    pn(nullptr), diag(nullptr), lower(nullptr), piv(nullptr), mul(nullptr), c1(nullptr),
+    c0(nullptr), c1f(nullptr), c0f(nullptr), bn(nullptr), rn(nullptr), zn(nullptr), qn(nullptr),
+    xnew(nullptr), comm_vec(nullptr)
+{
+  if (narg < 4)
+    error->all(FLERR,
+               "Illegal fix cgms/transport command: fix ID group cgms/transport <params file> "
+               "keyword value ...");
+  if (igroup != 0)
+    error->all(FLERR, "Fix cgms/transport: group must be all (every bead holds moisture)");
+  if (domain->dimension != 2)
+    error->all(FLERR, "Fix cgms/transport requires dimension 2 (the tissue is a slice)");
+  if (strcmp(update->unit_style, "si") != 0)
+    error->all(FLERR, "Fix cgms/transport requires units si (its parameters are SI), not units {}",
+               update->unit_style);
+
+  layers = 10;
+  faces = 2;
+  inplane = outline = heat = shrink = 1;
+  t_air = 70.0;
+  humidity = 0.1;
+  velocity = 1.5;
+  plate = 0.04;
+  thickness = 2e-3;
+  linear_law = 0;
+  hx = xeq = 0.0;
+  cutoff_user = 0.0;
+  s_min = 0.3;
+  dt_move = 1.0;
+  dx_max = dt_max = 0.0;
+  cg_tol = 1e-14;
+  cg_max = 2000;
+  nevery = 1;
+
+  read_params(arg[3]);
+
+  int iarg = 4;
+  auto need = [&](int n) {
+    if (iarg + n >= narg)
+      error->all(FLERR, "Fix cgms/transport keyword '{}' needs {} value(s)", arg[iarg], n);
+  };
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (key == "every") {
+      need(1);
+      nevery = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (nevery < 1) error->all(FLERR, "Fix cgms/transport every must be >= 1, got {}", nevery);
+      iarg += 2;
+    } else if (key == "dt") {
+      need(1);
+      dt_move = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(dt_move > 0.0))
+        error->all(FLERR, "Fix cgms/transport dt (s) must be > 0, got {}", dt_move);
+      iarg += 2;
+    } else if (key == "adapt") {
+      need(2);
+      dx_max = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      dt_max = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      if (!(dx_max > 0.0) || !(dt_max > 0.0))
+        error->all(FLERR, "Fix cgms/transport adapt dx_max dt_max: both must be > 0, got {} {}",
+                   dx_max, dt_max);
+      iarg += 3;
+    } else if (key == "layers") {
+      need(1);
+      layers = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (layers < 1) error->all(FLERR, "Fix cgms/transport layers must be >= 1, got {}", layers);
+      iarg += 2;
+    } else if (key == "faces") {
+      need(1);
+      faces = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
+      if (faces < 0 || faces > 2)
+        error->all(FLERR, "Fix cgms/transport faces must be 0, 1 or 2 (slice faces in air), got {}",
+                   faces);
+      iarg += 2;
+    } else if (key == "inplane" || key == "outline" || key == "heat" || key == "shrink") {
+      need(1);
+      int v = utils::logical(FLERR, arg[iarg + 1], false, lmp);
+      if (key == "inplane")
+        inplane = v;
+      else if (key == "outline")
+        outline = v;
+      else if (key == "heat")
+        heat = v;
+      else
+        shrink = v;
+      iarg += 2;
+    } else if (key == "temperature" || key == "humidity" || key == "velocity" || key == "plate" ||
+               key == "thickness" || key == "cutoff" || key == "smin") {
+      need(1);
+      double v = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (key == "temperature") {
+        if (v <= -20.0 || v >= 150.0)
+          error->all(
+              FLERR,
+              "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}",
+              v);
+        t_air = v;
+      } else if (key == "humidity") {
+        if (v < 0.0 || v >= 1.0)
+          error->all(FLERR,
+                     "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}", v);
+        humidity = v;
+      } else {
+        if (key == "smin" ? (v < 0.0 || v > 1.0) : (key == "velocity" ? v < 0.0 : !(v > 0.0)))
+          error->all(FLERR, "Fix cgms/transport {} out of range: {}", key, v);
+        if (key == "velocity")
+          velocity = v;
+        else if (key == "plate")
+          plate = v;
+        else if (key == "thickness")
+          thickness = v;
+        else if (key == "cutoff")
+          cutoff_user = v;
+        else
+          s_min = v;
+      }
+      iarg += 2;
+    } else if (key == "surface") {
+      need(1);
+      if (strcmp(arg[iarg + 1], "vapour") == 0) {
+        linear_law = 0;
+        iarg += 2;
+      } else if (strcmp(arg[iarg + 1], "linear") == 0) {
+        need(3);
+        linear_law = 1;
+        hx = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+        xeq = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
+        if (hx < 0.0)
+          error->all(FLERR, "Fix cgms/transport surface linear: h_x must be >= 0, got {}", hx);
+        iarg += 4;
+      } else
+        error->all(FLERR,
+                   "Fix cgms/transport surface must be 'vapour' or 'linear h_x X_eq', got '{}'",
+                   arg[iarg + 1]);
+    } else if (key == "tolerance") {
+      need(1);
+      cg_tol = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(cg_tol > 0.0 && cg_tol < 1.0))
+        error->all(FLERR, "Fix cgms/transport tolerance must be in (0, 1), got {}", cg_tol);
+      iarg += 2;
+    } else
+      error->all(FLERR,
+                 "Unknown fix cgms/transport keyword '{}' (known: every dt adapt layers faces "
+                 "inplane outline heat shrink temperature humidity velocity plate thickness "
+                 "cutoff smin surface tolerance)",
+                 key);
+  }
+  // the linear law has no vapour pressure, so no heat balance: D at the air temperature
+  if (linear_law) heat = 0;
+  multiplicity = faces == 2 ? 2 : 1;
+  air_coefficients();
+
+  initialised = 0;
+  time = water0 = out_face = out_edge = rate = 0.0;
+  t_product = t_air;
+  nmoves = 0;
+  cg_iterations = 0;
+  comm_mode = MODE_STATE;
+  // the outputs before the first setup: nothing has dried yet
+  for (double &v : vec) v = 0.0;
+  vec[2] = vec[7] = vec[8] = 1.0;
+  vec[10] = t_air;
+  vec[11] = dt_move;
+
+  nstore = layers + 3;
+  vector_flag = 1;
+  size_vector = NVECTOR;
+  global_freq = 1;
+  extvector = 0;
+  peratom_flag = 1;
+  size_peratom_cols = 4;
+  peratom_freq = 1;
+  restart_global = 1;
+  restart_peratom = 1;
+  comm_forward = layers + 2;
+  dynamic_group_allow = 0;
+  create_attribute = 1;
+
+  FixCGMSTransport::grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  atom->add_callback(Atom::RESTART);
+  for (int i = 0; i < atom->nlocal; i++) {
+    for (int m = 0; m < nstore; m++) store[i][m] = 0.0;
+    set_output(i);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixCGMSTransport::~FixCGMSTransport()
+{
+  if (modify->get_fix_by_id(id)) {
+    atom->delete_callback(id, Atom::GROW);
+    atom->delete_callback(id, Atom::RESTART);
+  }
+  memory->destroy(store);
+  memory->destroy(out);
+  for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &pn, &diag, &lower, &piv,
+                     &mul,   &c1, &c0,   &c1f,     &c0f,  &bn, &rn, &zn, &qn,   &xnew})
+    memory->destroy(*p);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixCGMSTransport::setmask()
+{
+  return END_OF_STEP;
+}
+
+/* ----------------------------------------------------------------------
+   the parameters file of python/cgms/drying.py read_params: "name value"
+   lines, '#' comments; every name below is needed, others are refused
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::read_params(const char *file)
+{
+  const char *names[] = {"X0",         "solids_density", "D_ref", "T_ref", "D_energy",
+                         "D_moisture", "GAB_Xm",         "GAB_C", "GAB_K"};
+  double *targets[] = {&x0,         &solids_density, &d_ref, &t_ref, &d_energy,
+                       &d_moisture, &gab_xm,         &gab_c, &gab_k};
+  const int n = 9;
+  double values[9];
+  if (comm->me == 0) {
+    FILE *fp = utils::open_potential(file, lmp, nullptr);
+    if (!fp)
+      error->one(FLERR,
+                 "Fix cgms/transport: cannot open parameter file {} (looked in the "
+                 "current folder and LAMMPS_POTENTIALS)",
+                 file);
+    std::map<std::string, double> found;
+    char line[1024];
+    int lineno = 0;
+    while (fgets(line, sizeof(line), fp)) {
+      lineno++;
+      std::string text = utils::trim_comment(line);
+      auto words = utils::split_words(text);
+      if (words.empty()) continue;
+      if (words.size() != 2)
+        error->one(FLERR, "Fix cgms/transport: {} line {}: expected 'name value', got '{}'", file,
+                   lineno, utils::trim(text));
+      bool known = false;
+      for (int k = 0; k < n; k++) known |= words[0] == names[k];
+      if (!known)
+        error->one(FLERR, "Fix cgms/transport: {} line {}: unknown parameter '{}'", file, lineno,
+                   words[0]);
+      if (!utils::is_double(words[1]))
+        error->one(FLERR, "Fix cgms/transport: {} line {}: '{}' is not a number", file, lineno,
+                   words[1]);
+      found[words[0]] = std::stod(words[1]);
+    }
+    fclose(fp);
+    std::string missing;
+    for (int k = 0; k < n; k++) {
+      if (found.count(names[k]))
+        values[k] = found[names[k]];
+      else
+        missing += std::string(missing.empty() ? "" : ", ") + names[k];
+    }
+    if (!missing.empty()) error->one(FLERR, "Fix cgms/transport: {} misses {}", file, missing);
+  }
+  MPI_Bcast(values, n, MPI_DOUBLE, 0, world);
+  for (int k = 0; k < n; k++) *targets[k] = values[k];
+  if (!(x0 > 0.0) || !(solids_density > 0.0) || d_ref < 0.0 || !(gab_xm > 0.0) || !(gab_c > 1.0) ||
+      !(gab_k > 0.0 && gab_k < 1.0))
+    error->all(FLERR,
+               "Fix cgms/transport: {}: needs X0 > 0, solids_density > 0, D_ref >= 0, "
+               "GAB_Xm > 0, GAB_C > 1 and 0 < GAB_K < 1",
+               file);
+}
+
+/* ----------------------------------------------------------------------
+   k_c and h of a flat plate in air (python/cgms/transport.py air_coefficients:
+   Sutherland viscosity, Marrero and Mason diffusivity, laminar or mixed
+   Sherwood number, Chilton-Colburn for h)
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::air_coefficients()
+{
+  const double t = t_air + KELVIN;
+  const double rho = P_ATM * M_AIR / (R_GAS * t);
+  const double mu = 1.716e-5 * pow(t / 273.15, 1.5) * (273.15 + 110.4) / (t + 110.4);
+  const double cp = 1007.0;
+  const double k = 0.0241 * pow(t / 273.15, 0.81);
+  const double dva = 1.87e-10 * pow(t, 2.072);
+  const double nu = mu / rho;
+  const double pr = mu * cp / k, sc = nu / dva;
+  const double re = velocity * plate / nu;
+  const double sh = re < 5e5 ? 0.664 * sqrt(re) * cbrt(sc)
+                             : (0.037 * pow(re, 0.8) - 871.0) * cbrt(sc);
+  kc = sh * dva / plate;
+  hc = kc * rho * cp * pow(sc / pr, 2.0 / 3.0);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSTransport::init()
+{
+  if (!force->pair && cutoff_user <= 0.0)
+    error->all(FLERR,
+               "Fix cgms/transport needs a pair style or the cutoff keyword: its neighbours "
+               "are the beads within that distance");
+  cutoff = cutoff_user > 0.0 ? cutoff_user : force->pair->cutforce;
+  double ghost = comm->cutghostuser;
+  if (force->pair) ghost = MAX(force->pair->cutforce + neighbor->skin, ghost);
+  if (cutoff + neighbor->skin > ghost)
+    error->all(FLERR,
+               "Fix cgms/transport cutoff {} m plus skin exceeds the ghost range {} m: "
+               "use comm_modify cutoff",
+               cutoff, ghost);
+  auto req = neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
+  if (cutoff_user > 0.0) req->set_cutoff(cutoff_user + neighbor->skin);
+}
+
+void FixCGMSTransport::init_list(int, NeighList *ptr)
+{
+  list = ptr;
+}
+
+/* ----------------------------------------------------------------------
+   first run: every bead's column gets the fresh moisture X0, its dry solid
+   from the current geometry (the fresh state) and the fresh thickness
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::setup(int)
+{
+  if (!initialised) {
+    initialise_columns();
+    initialised = 1;
+  }
+  refresh_vector();
+}
+
+void FixCGMSTransport::initialise_columns()
+{
+  geometry();
+  for (int i = 0; i < atom->nlocal; i++) {
+    store[i][layers] = solids_density * area[i] * thickness;
+    store[i][layers + 1] = area[i];
+    store[i][layers + 2] = thickness;
+    for (int l = 0; l < layers; l++) store[i][l] = x0;
+    set_output(i);
+  }
+  double surf, core;
+  totals(water0, surf, core);
+  t_product = t_air;
+  geometry();
+  t_product = product_temperature();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSTransport::end_of_step()
+{
+  move();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSTransport::set_output(int i)
+{
+  if (store[i][layers] <= 0.0) {
+    for (int m = 0; m < 4; m++) out[i][m] = 1.0;
+    return;
+  }
+  double mean = 0.0;
+  for (int l = 0; l < layers; l++) mean += store[i][l];
+  mean /= layers;
+  out[i][1] = mean / x0;
+  out[i][0] = MIN(1.0, MAX(s_min, out[i][1]));
+  out[i][2] = store[i][0] / x0;
+  out[i][3] = store[i][layers - 1] / x0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixCGMSTransport::sum_all(double v) const
+{
+  double all;
+  MPI_Allreduce(&v, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
+}
+
+// water in the tissue (kg, whole columns) and the solids-weighted surface and core X/X0
+void FixCGMSTransport::totals(double &w, double &surf, double &core) const
+{
+  double local[4] = {0.0, 0.0, 0.0, 0.0}, all[4];
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double s = store[i][layers];
+    double col = 0.0;
+    for (int l = 0; l < layers; l++) col += store[i][l];
+    local[0] += s / layers * col;
+    local[1] += s * store[i][0];
+    local[2] += s * store[i][layers - 1];
+    local[3] += s;
+  }
+  MPI_Allreduce(local, all, 4, MPI_DOUBLE, MPI_SUM, world);
+  w = all[0];
+  surf = all[3] > 0.0 ? all[1] / all[3] / x0 : 1.0;
+  core = all[3] > 0.0 ? all[2] / all[3] / x0 : 1.0;
+}
+
+void FixCGMSTransport::refresh_vector()
+{
+  double w, surf, core;
+  totals(w, surf, core);
+  const double w0 = water0 > 0.0 ? water0 : w;
+  vec[0] = time;
+  vec[1] = time / 3600.0;
+  vec[2] = w0 > 0.0 ? w / w0 : 1.0;
+  vec[3] = rate;
+  vec[4] = out_face;
+  vec[5] = out_edge;
+  vec[6] = w0 > 0.0 ? (w0 - w - out_face - out_edge) / w0 : 0.0;
+  vec[7] = surf;
+  vec[8] = core;
+  vec[9] = core - surf;
+  vec[10] = t_product;
+  vec[11] = dt_move;
+  vec[12] = cg_iterations;
+  vec[13] = (double) nmoves;
+}
+
+double FixCGMSTransport::compute_vector(int n)
+{
+  return vec[n];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSTransport::grow_beads()
+{
+  const int nall = atom->nlocal + atom->nghost;
+  if (nall <= nmax_bead) return;
+  nmax_bead = atom->nmax;
+  for (double **p : {&rho_s, &dz, &area, &spacing, &edge})
+    memory->grow(*p, nmax_bead, "cgms/transport:bead");
+  for (double **p : {&xn, &dn, &pn, &diag, &piv, &c1, &c0, &c1f, &c0f, &bn, &rn, &zn, &qn, &xnew})
+    memory->grow(*p, (bigint) nmax_bead * layers, "cgms/transport:node");
+  for (double **p : {&lower, &mul})
+    memory->grow(*p, (bigint) nmax_bead * MAX(layers - 1, 1), "cgms/transport:column");
+}
+
+/* ----------------------------------------------------------------------
+   the in-plane finite-volume geometry from the current positions
+   (python/cgms/transport.py bead_geometry): neighbours within the cutoff,
+   a = mean neighbour distance, area (sqrt 3 / 2) a^2. The outline is a local
+   stand-in for the outline polygon of the Python side: a bead with N < 6
+   neighbours exposes (6 - N) a / 2 of outline (exact on a straight row of a
+   hexagonal lattice). Then each column's thickness, solid density and layer
+   depth, sent with the moisture to the ghost beads.
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::geometry()
+{
+  grow_beads();
+  neighbor->build_one(list);
+  const int nlocal = atom->nlocal;
+  double **x = atom->x;
+  const double cutsq = cutoff * cutoff;
+  pair_start.assign(nlocal + 1, 0);
+  pair_j.clear();
+  pair_dist.clear();
+  tagint lonely = MAXTAGINT;
+  for (int i = 0; i < nlocal; i++) {
+    pair_start[i] = (int) pair_j.size();
+    const int *jlist = list->firstneigh[i];
+    const int jnum = list->numneigh[i];
+    double sum = 0.0;
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1];
+      const double rsq = dx * dx + dy * dy;
+      if (rsq >= cutsq) continue;
+      const double r = sqrt(rsq);
+      pair_j.push_back(j);
+      pair_dist.push_back(r);
+      sum += r;
+    }
+    const int count = (int) pair_j.size() - pair_start[i];
+    if (count == 0) {
+      lonely = MIN(lonely, atom->tag[i]);
+      spacing[i] = area[i] = edge[i] = 0.0;
+      continue;
+    }
+    spacing[i] = sum / count;
+    area[i] = 0.5 * sqrt(3.0) * spacing[i] * spacing[i];
+    edge[i] = (outline && count < 6) ? 0.5 * (6 - count) * spacing[i] : 0.0;
+  }
+  pair_start[nlocal] = (int) pair_j.size();
+  tagint first;
+  MPI_Allreduce(&lonely, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first != MAXTAGINT)
+    error->all(FLERR,
+               "Fix cgms/transport: bead {} has no neighbour within the transport cutoff {} m: "
+               "moisture cannot move in or out of it (a tissue that came apart, or set cutoff)",
+               first, cutoff);
+
+  tagint bare = MAXTAGINT;
+  for (int i = 0; i < nlocal; i++)
+    if (initialised && !(store[i][layers] > 0.0)) bare = MIN(bare, atom->tag[i]);
+  MPI_Allreduce(&bare, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first != MAXTAGINT)
+    error->all(FLERR,
+               "Fix cgms/transport: bead {} has no moisture column: it was created after the "
+               "fix's first run, or the fix was defined with another ID than the one in the "
+               "restart file",
+               first);
+
+  for (int i = 0; i < nlocal; i++) {
+    const double s = store[i][layers];
+    const double thick = shrink ? store[i][layers + 2] * sqrt(area[i] / store[i][layers + 1])
+                                : store[i][layers + 2];
+    // before the columns exist (first setup) only the area is needed
+    rho_s[i] = s > 0.0 ? s / (area[i] * thick) : 0.0;
+    dz[i] = thick / multiplicity / layers;
+    for (int l = 0; l < layers; l++) xn[i * layers + l] = store[i][l];
+  }
+  comm_mode = MODE_STATE;
+  comm->forward_comm(this, layers + 2);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixCGMSTransport::diffusivity(double x, double t) const
+{
+  const double arrhenius = exp(-d_energy / R_GAS * (1.0 / (t + KELVIN) - 1.0 / (t_ref + KELVIN)));
+  return d_ref * arrhenius * exp(d_moisture * (x / x0 - 1.0));
+}
+
+// the surface law linearised at x: N = alpha X + beta (kg/(m^2 s))
+void FixCGMSTransport::surface_law(double x, double rho_sat_p, double rho_air, double &alpha,
+                                   double &beta) const
+{
+  if (linear_law) {
+    alpha = hx;
+    beta = -hx * xeq;
+    return;
+  }
+  double aw, slope;
+  gab_activity(x, gab_xm, gab_c, gab_k, aw, slope);
+  alpha = kc * rho_sat_p * slope;
+  beta = kc * (rho_sat_p * (aw - slope * x) - rho_air);
+}
+
+/* ----------------------------------------------------------------------
+   heat balance of the slice at product temperature tp (W): what the air
+   brings to every exchanging surface minus the latent heat of what
+   evaporates there (python/cgms/transport.py product_temperature), with the
+   diffusivity dn of the local nodes
+------------------------------------------------------------------------- */
+
+double FixCGMSTransport::evaporation(double tp)
+{
+  const double rho_sat_p = vapour_density(saturation_pressure(tp), tp);
+  const double rho_air = humidity * vapour_density(saturation_pressure(t_air), t_air);
+  double local[2] = {0.0, 0.0}, all[2];
+  auto add = [&](int n, double a, double g) {
+    double alpha, beta;
+    surface_law(xn[n], rho_sat_p, rho_air, alpha, beta);
+    local[0] += a * series(g, alpha) * (alpha * xn[n] + beta);
+    local[1] += a;
+  };
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (faces) add(i * layers, area[i], dn[i * layers] * rho_s[i] / (0.5 * dz[i]));
+    if (edge[i] > 0.0)
+      for (int l = 0; l < layers; l++)
+        add(i * layers + l, edge[i] * dz[i], dn[i * layers + l] * rho_s[i] / (0.5 * spacing[i]));
+  }
+  MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  return hc * (t_air - tp) * all[1] - latent_heat(tp) * all[0];
+}
+
+double FixCGMSTransport::product_temperature()
+{
+  if (!heat) return t_air;
+  // D at the last product temperature for the surface resistance: a lag of one step
+  for (int n = 0; n < atom->nlocal * layers; n++) dn[n] = diffusivity(xn[n], t_product);
+  if (evaporation(t_air) >= 0.0) return t_air;
+  double lo = -20.0, hi = t_air;
+  if (evaporation(lo) <= 0.0)
+    error->all(FLERR,
+               "Fix cgms/transport: no product temperature above -20 C balances the "
+               "evaporation (air at {} C)",
+               t_air);
+  // bisection to 1e-10 K: each probe is one sum over the surface nodes
+  while (hi - lo > 1e-10) {
+    const double mid = 0.5 * (lo + hi);
+    if (evaporation(mid) > 0.0)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+/* ----------------------------------------------------------------------
+   one backward Euler moisture step of length dt_move
+   (python/cgms/transport.py step, and the loop of python/cgms/drying.py dry)
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::move()
+{
+  const int nlocal = atom->nlocal;
+  const double dt = dt_move;
+  geometry();
+  t_product = product_temperature();
+  const int nall = nlocal + atom->nghost;
+  for (int n = 0; n < nall * layers; n++) dn[n] = diffusivity(xn[n], t_product);
+
+  double before, surf, core;
+  totals(before, surf, core);
+  assemble(dt);
+  cg_iterations = solve();
+
+  double local[3] = {0.0, 0.0, 0.0}, all[3];
+  for (int n = 0; n < nlocal * layers; n++) {
+    local[0] += c1[n] * xnew[n] + c0[n];
+    local[1] += c1f[n] * xnew[n] + c0f[n];
+    local[2] = MAX(local[2], fabs(xnew[n] - xn[n]) / x0);
+  }
+  MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  double change;
+  MPI_Allreduce(&local[2], &change, 1, MPI_DOUBLE, MPI_MAX, world);
+  out_face += multiplicity * dt * all[1];
+  out_edge += multiplicity * dt * (all[0] - all[1]);
+
+  for (int i = 0; i < nlocal; i++) {
+    for (int l = 0; l < layers; l++) store[i][l] = xnew[i * layers + l];
+    set_output(i);
+  }
+  time += dt;
+  nmoves++;
+  double after;
+  totals(after, surf, core);
+  rate = (before - after) / water0 / (dt / 3600.0);
+  if (dx_max > 0.0) dt_move = MIN(dt_max, dt * MIN(2.0, dx_max / MAX(change, 1e-12)));
+  refresh_vector();
+}
+
+/* ----------------------------------------------------------------------
+   the matrix of the step: diag (mass/dt + surface + all couplings), the
+   column couplings (lower), the in-plane couplings per pair and layer; the
+   right-hand side bn; the surface flow c1 X + c0 per node (faces: c1f, c0f)
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::assemble(double dt)
+{
+  const int nlocal = atom->nlocal;
+  const double rho_sat_p = vapour_density(saturation_pressure(t_product), t_product);
+  const double rho_air = humidity * vapour_density(saturation_pressure(t_air), t_air);
+  const double root3 = sqrt(3.0);
+  pair_g.assign(pair_j.size() * layers, 0.0);
+  for (int i = 0; i < nlocal; i++) {
+    const double mass = store[i][layers] / multiplicity / layers;
+    double *const d = &dn[i * layers];
+    for (int l = 0; l < layers; l++) {
+      const int n = i * layers + l;
+      diag[n] = mass / dt;
+      bn[n] = mass / dt * xn[n];
+      c1[n] = c0[n] = c1f[n] = c0f[n] = 0.0;
+    }
+    if (inplane)
+      for (int k = pair_start[i]; k < pair_start[i + 1]; k++) {
+        const int j = pair_j[k];
+        const double r = pair_dist[k];
+        for (int l = 0; l < layers; l++) {
+          const double dm = 0.5 * (d[l] + dn[j * layers + l]);
+          const double g =
+              dm * 0.5 * (rho_s[i] + rho_s[j]) * (r / root3) * 0.5 * (dz[i] + dz[j]) / r;
+          pair_g[(size_t) k * layers + l] = g;
+          diag[i * layers + l] += g;
+        }
+      }
+    for (int l = 0; l + 1 < layers; l++) {
+      const double g = 0.5 * (d[l] + d[l + 1]) * rho_s[i] * area[i] / dz[i];
+      lower[i * (layers - 1) + l] = g;
+      diag[i * layers + l] += g;
+      diag[i * layers + l + 1] += g;
+    }
+    double alpha, beta;
+    if (faces) {
+      const int n = i * layers;
+      surface_law(xn[n], rho_sat_p, rho_air, alpha, beta);
+      const double share = series(d[0] * rho_s[i] / (0.5 * dz[i]), alpha) * area[i];
+      c1[n] += share * alpha;
+      c0[n] += share * beta;
+      c1f[n] += share * alpha;
+      c0f[n] += share * beta;
+    }
+    if (edge[i] > 0.0)
+      for (int l = 0; l < layers; l++) {
+        const int n = i * layers + l;
+        surface_law(xn[n], rho_sat_p, rho_air, alpha, beta);
+        const double share = series(d[l] * rho_s[i] / (0.5 * spacing[i]), alpha) * edge[i] * dz[i];
+        c1[n] += share * alpha;
+        c0[n] += share * beta;
+      }
+    for (int l = 0; l < layers; l++) {
+      const int n = i * layers + l;
+      diag[n] += c1[n];
+      bn[n] -= c0[n];
+    }
+    // the column block factored once per step: LDL^T of a tridiagonal matrix
+    piv[i * layers] = diag[i * layers];
+    for (int l = 1; l < layers; l++) {
+      const double off = -lower[i * (layers - 1) + l - 1];
+      mul[i * (layers - 1) + l - 1] = off / piv[i * layers + l - 1];
+      piv[i * layers + l] = diag[i * layers + l] - mul[i * (layers - 1) + l - 1] * off;
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSTransport::precondition(const double *r, double *z)
+{
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    double *y = &z[i * layers];
+    const double *m = &mul[i * (layers - 1)];
+    for (int l = 0; l < layers; l++) y[l] = r[i * layers + l];
+    for (int l = 1; l < layers; l++) y[l] -= m[l - 1] * y[l - 1];
+    for (int l = 0; l < layers; l++) y[l] /= piv[i * layers + l];
+    for (int l = layers - 2; l >= 0; l--) y[l] -= m[l] * y[l + 1];
+  }
+}
+
+// y = M v over the local nodes; v needs room for the ghosts, which are refreshed here
+void FixCGMSTransport::matvec(double *v, double *y)
+{
+  comm_vec = v;
+  comm_mode = MODE_DIRECTION;
+  comm->forward_comm(this, layers);
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    const double *vi = &v[i * layers];
+    double *yi = &y[i * layers];
+    for (int l = 0; l < layers; l++) yi[l] = diag[i * layers + l] * vi[l];
+    for (int l = 0; l + 1 < layers; l++) {
+      const double g = lower[i * (layers - 1) + l];
+      yi[l] -= g * vi[l + 1];
+      yi[l + 1] -= g * vi[l];
+    }
+    if (inplane)
+      for (int k = pair_start[i]; k < pair_start[i + 1]; k++) {
+        const double *vj = &v[pair_j[k] * layers];
+        const double *g = &pair_g[(size_t) k * layers];
+        for (int l = 0; l < layers; l++) yi[l] -= g[l] * vj[l];
+      }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   conjugate gradients preconditioned by the columns, started from the
+   column solve of the right-hand side (as python/cgms/transport.py solve);
+   one ghost exchange per iteration. Returns the iterations.
+------------------------------------------------------------------------- */
+
+int FixCGMSTransport::solve()
+{
+  const int nn = atom->nlocal * layers;
+  auto dot = [&](const double *a, const double *b) {
+    double s = 0.0;
+    for (int n = 0; n < nn; n++) s += a[n] * b[n];
+    return sum_all(s);
+  };
+  const double bnorm = sqrt(dot(bn, bn));
+  precondition(bn, xnew);
+  matvec(xnew, qn);
+  for (int n = 0; n < nn; n++) rn[n] = bn[n] - qn[n];
+  double rnorm = sqrt(dot(rn, rn));
+  const double goal = cg_tol * bnorm;
+  if (rnorm <= goal) return 0;
+  precondition(rn, zn);
+  for (int n = 0; n < nn; n++) pn[n] = zn[n];
+  double rz = dot(rn, zn);
+  int it = 0;
+  while (it < cg_max) {
+    it++;
+    matvec(pn, qn);
+    const double a = rz / dot(pn, qn);
+    for (int n = 0; n < nn; n++) {
+      xnew[n] += a * pn[n];
+      rn[n] -= a * qn[n];
+    }
+    rnorm = sqrt(dot(rn, rn));
+    if (rnorm <= goal) return it;
+    precondition(rn, zn);
+    const double rz_new = dot(rn, zn);
+    const double beta = rz_new / rz;
+    rz = rz_new;
+    for (int n = 0; n < nn; n++) pn[n] = zn[n] + beta * pn[n];
+  }
+  // also a residual that is not a number: never hand on a NaN moisture field
+  if (!(rnorm <= 1e-8 * bnorm))
+    error->all(FLERR,
+               "Fix cgms/transport: the moisture step did not converge in {} CG "
+               "iterations (residual {:.3g} of the right-hand side)",
+               cg_max, rnorm / bnorm);
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/transport: CG stopped at a residual of {:.3g} of the "
+                   "right-hand side (tolerance {:.3g})",
+                   rnorm / bnorm, cg_tol);
+  return it;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixCGMSTransport::pack_forward_comm(int n, int *list_send, double *buf, int, int *)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    const int j = list_send[k];
+    if (comm_mode == MODE_STATE) {
+      buf[m++] = rho_s[j];
+      buf[m++] = dz[j];
+      for (int l = 0; l < layers; l++) buf[m++] = xn[j * layers + l];
+    } else
+      for (int l = 0; l < layers; l++) buf[m++] = comm_vec[j * layers + l];
+  }
+  return m;
+}
+
+void FixCGMSTransport::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    if (comm_mode == MODE_STATE) {
+      rho_s[i] = buf[m++];
+      dz[i] = buf[m++];
+      for (int l = 0; l < layers; l++) xn[i * layers + l] = buf[m++];
+    } else
+      for (int l = 0; l < layers; l++) comm_vec[i * layers + l] = buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCGMSTransport::grow_arrays(int nmax)
+{
+  memory->grow(store, nmax, nstore, "cgms/transport:store");
+  memory->grow(out, nmax, 4, "cgms/transport:out");
+  array_atom = out;
+}
+
+void FixCGMSTransport::copy_arrays(int i, int j, int)
+{
+  for (int m = 0; m < nstore; m++) store[j][m] = store[i][m];
+  for (int m = 0; m < 4; m++) out[j][m] = out[i][m];
+}
+
+// a bead created after the fix: no column (an error at the next moisture step)
+void FixCGMSTransport::set_arrays(int i)
+{
+  for (int m = 0; m < nstore; m++) store[i][m] = 0.0;
+  set_output(i);
+}
+
+int FixCGMSTransport::pack_exchange(int i, double *buf)
+{
+  for (int m = 0; m < nstore; m++) buf[m] = store[i][m];
+  return nstore;
+}
+
+int FixCGMSTransport::unpack_exchange(int nlocal, double *buf)
+{
+  for (int m = 0; m < nstore; m++) store[nlocal][m] = buf[m];
+  set_output(nlocal);
+  return nstore;
+}
+
+/* ----------------------------------------------------------------------
+   restart: the run's state (global) and every bead's column (per atom)
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  double list_out[11] = {(double) layers,
+                         (double) faces,
+                         time,
+                         water0,
+                         out_face,
+                         out_edge,
+                         rate,
+                         t_product,
+                         dt_move,
+                         (double) nmoves,
+                         (double) initialised};
+  int size = sizeof(list_out);
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(list_out, sizeof(list_out), 1, fp);
+}
+
+void FixCGMSTransport::restart(char *buf)
+{
+  auto *list_in = (double *) buf;
+  if ((int) list_in[0] != layers || (int) list_in[1] != faces)
+    error->all(FLERR,
+               "Fix cgms/transport: the restart file holds {} layers and faces {}; this "
+               "fix has layers {} faces {}: give the same",
+               (int) list_in[0], (int) list_in[1], layers, faces);
+  time = list_in[2];
+  water0 = list_in[3];
+  out_face = list_in[4];
+  out_edge = list_in[5];
+  rate = list_in[6];
+  t_product = list_in[7];
+  dt_move = list_in[8];
+  nmoves = (bigint) list_in[9];
+  initialised = (int) list_in[10];
+}
+
+int FixCGMSTransport::pack_restart(int i, double *buf)
+{
+  buf[0] = nstore + 1;
+  for (int m = 0; m < nstore; m++) buf[m + 1] = store[i][m];
+  return nstore + 1;
+}
+
+void FixCGMSTransport::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  for (int k = 0; k < nstore; k++) store[nlocal][k] = extra[nlocal][m++];
+  set_output(nlocal);
+}
+
+int FixCGMSTransport::size_restart(int)
+{
+  return nstore + 1;
+}
+
+int FixCGMSTransport::maxsize_restart()
+{
+  return nstore + 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixCGMSTransport::memory_usage()
+{
+  return sizeof(double) *
+      ((double) atom->nmax * (nstore + 4) + 5.0 * nmax_bead + 17.0 * nmax_bead * layers +
+       (double) pair_g.size() + (double) pair_dist.size()) +
+      sizeof(int) * ((double) pair_j.size() + pair_start.size());
+}

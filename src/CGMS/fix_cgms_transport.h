@@ -1,0 +1,118 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_FIX_CGMS_TRANSPORT_H
+#define LMP_FIX_CGMS_TRANSPORT_H
+
+#include "fix.h"
+
+#include <vector>
+
+namespace LAMMPS_NS {
+
+// Time-domain drying: moisture transport through a tissue slice and out into
+// the air (doc/drying.md, doc/fix_cgms_transport.rst). Every bead carries a
+// column of `layers` moisture nodes across the slice thickness; every N MD
+// steps the fix advances the moisture by one backward Euler step of its own
+// length (seconds of drying), solved by conjugate gradients preconditioned by
+// the columns. The same equations as python/cgms/transport.py.
+class FixCGMSTransport : public Fix {
+ public:
+  FixCGMSTransport(class LAMMPS *, int, char **);
+  ~FixCGMSTransport() override;
+
+  int setmask() override;
+  void init() override;
+  void init_list(int, class NeighList *) override;
+  void setup(int) override;
+  void end_of_step() override;
+  double compute_vector(int) override;
+
+  void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
+  void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
+  void write_restart(FILE *) override;
+  void restart(char *) override;
+  int pack_restart(int, double *) override;
+  void unpack_restart(int, int) override;
+  int size_restart(int) override;
+  int maxsize_restart() override;
+
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+
+  double memory_usage() override;
+
+ private:
+  class NeighList *list;
+
+  // parameters of the material file (python/cgms/drying.py read_params)
+  double x0, solids_density, d_ref, t_ref, d_energy, d_moisture, gab_xm, gab_c, gab_k;
+  // conditions and switches
+  int layers, faces, multiplicity;
+  int inplane, outline, heat, shrink;
+  double t_air, humidity, velocity, plate, thickness;
+  double kc, hc;     // air-side mass (m/s) and heat (W/(m^2 K)) coefficients
+  int linear_law;    // 1: N = hx (X - xeq) (Crank's boundary condition)
+  double hx, xeq;
+  double cutoff, cutoff_user;
+  double s_min;             // lowest dryness handed to the mechanics
+  double dt_move;           // length of the next moisture step (s)
+  double dx_max, dt_max;    // adaptive step (dx_max <= 0: fixed)
+  double cg_tol;
+  int cg_max;
+
+  // state of the run (global, in the restart file)
+  int initialised;
+  double time, water0, out_face, out_edge, rate, t_product;
+  bigint nmoves;
+  int cg_iterations;
+  double vec[14];    // the global outputs, refreshed after every moisture step
+
+  // per bead, travels with it: X of every layer, dry solid S (kg, whole column),
+  // fresh area A0 (m^2), fresh thickness L0 (m)
+  double **store;
+  int nstore;
+  double **out;    // per-atom output: dryness, mean, surface, core X/X0
+
+  // per bead, local and ghost, rebuilt every moisture step
+  int nmax_bead;
+  double *rho_s, *dz, *area, *spacing, *edge;
+  double *xn, *dn, *pn;    // node moisture, diffusivity, CG direction (layers per bead)
+  double *diag, *lower, *piv, *mul, *c1, *c0, *c1f, *c0f, *bn, *rn, *zn, *qn, *xnew;
+  double *comm_vec;                       // the node array MODE_DIRECTION sends
+  std::vector<int> pair_start, pair_j;    // in-plane neighbours of each local bead
+  std::vector<double> pair_dist;          // their centre distance
+  std::vector<double> pair_g;             // their conductance per layer
+
+  int comm_mode;
+
+  void read_params(const char *);
+  void air_coefficients();
+  void set_output(int);
+  void initialise_columns();
+  void grow_beads();
+  void geometry();
+  double diffusivity(double, double) const;
+  void surface_law(double, double, double, double &, double &) const;
+  double product_temperature();
+  double evaporation(double);
+  void move();
+  void assemble(double);
+  int solve();
+  void matvec(double *, double *);
+  void precondition(const double *, double *);
+  double sum_all(double) const;
+  void totals(double &, double &, double &) const;
+  void refresh_vector();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
