@@ -138,19 +138,23 @@ def test_minimize_with_lammps_default_dmax(folder):
 @pytest.mark.lammps
 def test_minimize_warns_when_it_ends_on_a_folded_tissue(tmp_path):
     """A LAMMPS script's own minimize lands on a tissue folded onto itself without a word
-    unless the fix says so at its end (apple-mfc at s = 0.4 folds every bead into its
-    second shell; apple at the same s stays a hexagonal tissue)."""
+    unless the fix says so at its end (the first apple-mfc fit, against the LJ-lamella MFC
+    reference, folds every bead into its second shell at s = 0.4; apple at the same s stays
+    a hexagonal tissue)."""
     from cgms import run, tissue
     from cgmstest import MAT, PLUGIN, ROOT
 
     data = tmp_path / "tissue.data"
     tissue.write_data(data, tissue.rectangle(0.9e-3, 0.8e-3, MAT["x_ref"]), 3 * MAT["x_ref"])
     seen = {}
-    for name in ("apple", "apple-mfc"):
+    first_fit = ("k_T 1.2105476322578275e-11 k_PA 0.009739309213328667 beta_a "
+                 "1.2678326862424814 beta_b 0.004352216119618972 k_S 0.34106708264650915")
+    for name, overrides in (("apple", ""), ("apple-mfc", first_fit)):
         folder = tmp_path / name
         folder.mkdir()
         script = f"plugin load {PLUGIN}\n" + run.tissue_script(
-            data, ROOT / "potentials" / f"{name}.cgms", 0.4, method="quasistatic")
+            data, ROOT / "potentials" / "apple.cgms", 0.4, method="quasistatic",
+            overrides=overrides)
         seen[name] = run_lmp(folder, script).stdout
     assert "minimize ended on a tissue folded onto itself" in seen["apple-mfc"]
     assert "folded" not in seen["apple"]

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from cgms import cli, folders, study, tissue
-from cgmstest import APPLE, MAT, ROOT
+from cgmstest import APPLE, MAT
 
 STEADY = dict(residual=1e-3, speed=1e-3, max_steps=200000)
 
@@ -151,11 +151,14 @@ def test_material_overrides_rederive_the_reference_cell():
 @pytest.mark.lammps
 def test_folded_steady_state_is_refused(small_tissue, tmp_path):
     """A minimiser lands on a tissue folded onto itself without a word (the dynamics stops
-    on it): apple-mfc at s = 0.4, below the range it was fitted in, folds every bead into
-    its second shell. The level must stop with the cause, not print 'converged'."""
-    folded_material = str(ROOT / "potentials" / "apple-mfc.cgms")
+    on it): the first apple-mfc fit (against the LJ-lamella MFC reference) at s = 0.4,
+    below the range it was fitted in, folds every bead into its second shell. The level
+    must stop with the cause, not print 'converged'."""
+    first_fit = ("k_T 1.2105476322578275e-11 k_PA 0.009739309213328667 beta_a "
+                 "1.2678326862424814 beta_b 0.004352216119618972 k_S 0.34106708264650915")
     with pytest.raises(study.LammpsError, match=r"folded onto itself: bead \d+ has \d+ neigh"):
-        study.relax(small_tissue, folded_material, 0.4, tmp_path / "qs", method="quasistatic")
+        study.relax(small_tissue, APPLE, 0.4, tmp_path / "qs", method="quasistatic",
+                    overrides=first_fit)
     healthy = study.relax(small_tissue, APPLE, 0.4, tmp_path / "ok", method="quasistatic")
     assert healthy["converged"]
 

@@ -54,8 +54,20 @@ def cgms_xy(root, name, s):
     return np.load(path) if path.is_file() else None
 
 
+#: longest outline edge as a factor of the median nearest-neighbour distance (None: the
+#: outline's default, 1.5); set by --max-edge
+EDGE = [None]
+
+
+def _measures(xy):
+    if EDGE[0] is None:
+        return morphology.measures(xy)
+    nearest = np.sort(np.linalg.norm(xy[:, None] - xy[None], axis=-1), axis=1)[:, 1]
+    return morphology.measures(xy, max_edge=EDGE[0] * float(np.median(nearest)))
+
+
 def normalised(xy, fresh):
-    return morphology.normalise(morphology.measures(xy), morphology.measures(fresh))
+    return morphology.normalise(_measures(xy), _measures(fresh))
 
 
 def compare(mfc_root, cgms_roots, tissues=tuple(MICROSCALE), levels=LEVELS):
@@ -149,8 +161,13 @@ def main(argv=None):
                     help="a 'cgms main' study folder and its label; repeat")
     ap.add_argument("--tissues", default=",".join(MICROSCALE), help="comma separated")
     ap.add_argument("--out", help="write <out>.csv and <out>.png (never replaced)")
+    ap.add_argument("--max-edge", type=float,
+                    help="longest outline edge, times the median nearest-neighbour distance "
+                         "(default 1.5; 2-2.5 follows an MFC tissue whose dried cells "
+                         "wrinkle apart: reference/mfc/README.md)")
     args = ap.parse_args(argv)
     roots = dict(item.split("=", 1) for item in args.cgms)
+    EDGE[0] = args.max_edge
     rows, missing = compare(args.mfc, roots, args.tissues.split(","))
     if not rows:
         sys.exit(f"compare: no tissue level with both an MFC and a CGMS state under {args.mfc}")

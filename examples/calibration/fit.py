@@ -5,10 +5,13 @@
 (doc/calibration.md, "Against the MFC"). From the repository root, after
 ``source build/env.sh``:
 
-    python3 examples/calibration/fit.py [--mfc FOLDER] [--out OUT] [--install]
+    python3 examples/calibration/fit.py [--material NAME] [--mfc FOLDER] [--out OUT] [--install]
 
+``--material``: the start material (default apple; potato: the second tissue, whose
+86-cell tissue is apple's scaled to potato's cell spacing, examples/calibration/potato.py).
 ``--mfc``: the calibration tissue's MFC results, ``centroids.s<s>.txt`` per level (default
-reference/mfc/calibration, made by ``python3 -m cgms mfc``).
+reference/mfc/calibration for apple, made by ``python3 -m cgms mfc``;
+reference/mfc/potato-calibration for potato, made by potato.py).
 Results in OUT (default results/calibration-mfc), one folder per fit:
 
 - ``paper-<n>``: k_T, k_PA, beta_a, beta_b (the paper's parameters) on the n wettest levels,
@@ -18,8 +21,8 @@ Results in OUT (default results/calibration-mfc), one folder per fit:
   last ``paper-<n>`` fit and k_S = 0.02 N/m.
 
 Rigid motion (translation and rotation) is removed before eqn (2). ``--install`` writes the
-``kS`` fit to potentials/apple-mfc.cgms (never over an existing file) with a header saying
-how it was made.
+``kS`` fit to potentials/<material>-mfc.cgms (never over an existing file) with a header
+saying how it was made.
 """
 
 import argparse
@@ -29,57 +32,85 @@ from pathlib import Path
 
 from cgms import calibrate
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from potato import calibration_tissue  # noqa: E402  (the 86-cell tissue of any material)
+
 PAPER = ["k_T", "k_PA", "beta_a", "beta_b"]
 # search intervals, factors of each fit's start
 # (the first fit drives k_PA to a thousandth of apple's, so its bound starts lower)
 BOUNDS = {"k_T": (0.01, 100.0), "k_PA": (0.0005, 100.0), "beta_a": (0.85, 1.15),
-          "beta_b": (0.2, 5.0), "k_S": (0.01, 100.0)}
+          "beta_b": (0.2, 5.0), "k_S": (0.01, 100.0), "turgid_ratio": (0.9, 1.1)}
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--mfc", default="reference/mfc/calibration")
+    ap.add_argument("--material", default="apple")
+    ap.add_argument("--mfc", help="default: reference/mfc/calibration (apple), "
+                                  "reference/mfc/<material>-calibration (others)")
     ap.add_argument("--out", default="results/calibration-mfc")
     ap.add_argument("--levels", default="1,0.8,0.6",
                     help="levels to fit (default 1,0.8,0.6: the MFC's 0.4 and 0.3 are far "
                          "outside what CGMS can shrink to; doc/calibration.md)")
+    ap.add_argument("--also", default="",
+                    help="material parameters fitted with the paper's four, comma separated "
+                         "(e.g. turgid_ratio: the fresh cell's perimeter, the only thing "
+                         "that sets the size of the fresh tissue; bounds 0.9-1.1)")
     ap.add_argument("--install", action="store_true")
+    ap.add_argument("--install-fit", choices=("kS", "paper"), default="kS",
+                    help="which fit --install writes: kS (default) or the last paper-<n> "
+                         "fit, without k_S (when k_S is not determined)")
     args = ap.parse_args(argv)
+    if args.mfc is None:
+        args.mfc = "reference/mfc/" + ("calibration" if args.material == "apple"
+                                       else f"{args.material}-calibration")
     levels = [float(w) for w in args.levels.split(",")]
+    fitted = PAPER + [w for w in args.also.split(",") if w]
+    unknown = [w for w in fitted if w not in BOUNDS or w == "k_S"]
+    if unknown:
+        sys.exit(f"fit.py: --also {', '.join(unknown)}: not one of "
+                 f"{', '.join(k for k in BOUNDS if k not in PAPER + ['k_S'])}")
     refs = {s: Path(args.mfc) / f"centroids.s{s:g}.txt" for s in levels}
     missing = [str(p) for p in refs.values() if not p.is_file()]
     if missing:
         sys.exit(f"fit.py: no reference {', '.join(missing)}")
     if len(refs) < 2 or 1.0 not in refs:
         sys.exit(f"fit.py: need centroids.s1.txt and at least one dried level in {args.mfc}")
-    target = Path("potentials/apple-mfc.cgms")
+    target = Path(f"potentials/{args.material}-mfc.cgms")
     if args.install and target.exists():
         sys.exit(f"fit.py: {target} exists; move it away first")
     out = Path(args.out)
     data = out / "tissue.data"
-    if not data.exists():   # the 86-bead tissue, as `cgms calibrate` builds it
+    if not data.exists():   # the 86-bead tissue, as `cgms calibrate` builds it for apple
         out.mkdir(parents=True, exist_ok=True)
         from cgms import material, tissue
-        x_ref = material.read(material.find("apple"))["x_ref"]
-        tissue.write_data(data, tissue.rectangle(1.25e-3, 1.5e-3, x_ref), 3 * x_ref)
+        x_ref = material.read(args.material)["x_ref"]
+        tissue.write_data(data, calibration_tissue(args.material), 3 * x_ref)
     start, levels = None, sorted(refs, reverse=True)
     for n in range(2, len(levels) + 1):
         use = {s: refs[s] for s in levels[:n]}
-        result = calibrate.calibrate(data, "apple", use, out / f"paper-{n}", PAPER, start=start,
-                                     bounds={k: BOUNDS[k] for k in PAPER}, align_mode="rigid",
+        result = calibrate.calibrate(data, args.material, use, out / f"paper-{n}", fitted,
+                                     start=start,
+                                     bounds={k: BOUNDS[k] for k in fitted}, align_mode="rigid",
                                      max_evaluations=80)
         start = dict(result["parameters"])
         report("paper", n, result)
-    result = calibrate.calibrate(data, "apple", refs, out / "kS", PAPER + ["k_S"],
+        paper = result
+    result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
                                  start=dict(start, k_S=0.02), bounds=BOUNDS, align_mode="rigid",
                                  max_evaluations=80)
     report("kS", len(refs), result)
+    if args.install_fit == "paper":
+        result = paper
     if args.install:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                                 text=True).stdout.strip()
         lines = Path(result["material_file"]).read_text().splitlines()
-        made = [f"# Made by: python3 examples/calibration/fit.py --mfc {args.mfc} --out "
-                f"{args.out} --levels {args.levels} --install (fit 'kS', commit {commit})",
+        made = [f"# Made by: python3 examples/calibration/fit.py --material {args.material} "
+                f"--mfc {args.mfc} --out {args.out} --levels {args.levels}"
+                + (f" --also {args.also}" if args.also else "")
+                + f" --install --install-fit {args.install_fit} (fit "
+                + (f"'paper-{len(levels)}'" if args.install_fit == "paper" else "'kS'")
+                + f", commit {commit})",
                 f"# References: MFC centroids in {args.mfc} "
                 "(reference/mfc/README.md)"]
         with open(target, "x") as fh:
@@ -93,7 +124,12 @@ def report(name, n, r):
           + ", ".join(f"{k} {v:.6g} (+-{100 * r['stderr'][k]:.2g} %)"
                       for k, v in r["parameters"].items())
           + "; RMSD um " + ", ".join(f"s={s:g}: {v * 1e6:.2f}" for s, v in r["rmsd"].items())
-          + f"; {r['seconds']:.0f} s", flush=True)
+          + f"; {r['seconds']:.0f} s; on bound: {', '.join(r['on_bound']) or 'none'}",
+          flush=True)
+    names = list(r["parameters"])
+    pairs = [f"{a}/{b} {r['correlation'][i][j]:+.3f}" for i, a in enumerate(names)
+             for j, b in enumerate(names) if i < j]
+    print(f"fit.py: {name} correlations: {', '.join(pairs)}", flush=True)
 
 
 if __name__ == "__main__":
