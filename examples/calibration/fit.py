@@ -5,7 +5,8 @@
 (doc/calibration.md, "Against the MFC"). From the repository root, after
 ``source build/env.sh``:
 
-    python3 examples/calibration/fit.py [--material NAME] [--mfc FOLDER] [--out OUT] [--install]
+    python3 examples/calibration/fit.py [--material NAME] [--mfc FOLDER] [--out OUT]
+            [--hold NAME[,NAME]] [--install]
 
 ``--material``: the start material (default apple; potato: the second tissue, whose
 86-cell tissue is apple's scaled to potato's cell spacing, examples/calibration/potato.py).
@@ -19,6 +20,10 @@ Results in OUT (default results/calibration-mfc), one folder per fit:
   values, the three-level fit stops in a local minimum whose objective is 5 times larger);
 - ``kS``: the same four and the cell-shape stiffness k_S on every level, started from the
   last ``paper-<n>`` fit and k_S = 0.02 N/m.
+
+``--hold``: parameters of the paper's four kept at the start material's value, not fitted
+(k_T and k_PA are collinear on the converged levels: only their ratio is determined, and a
+free fit drifts along that valley to a stiff material; doc/calibration.md).
 
 Rigid motion (translation and rotation) is removed before eqn (2). ``--install`` writes the
 ``kS`` fit to potentials/<material>-mfc.cgms (never over an existing file) with a header
@@ -55,6 +60,9 @@ def main(argv=None):
                     help="material parameters fitted with the paper's four, comma separated "
                          "(e.g. turgid_ratio: the fresh cell's perimeter, the only thing "
                          "that sets the size of the fresh tissue; bounds 0.9-1.1)")
+    ap.add_argument("--hold", default="",
+                    help="parameters kept at the start material's value (not fitted), comma "
+                         "separated, e.g. k_T")
     ap.add_argument("--install", action="store_true")
     ap.add_argument("--install-fit", choices=("kS", "paper"), default="kS",
                     help="which fit --install writes: kS (default) or the last paper-<n> "
@@ -64,7 +72,10 @@ def main(argv=None):
         args.mfc = "reference/mfc/" + ("calibration" if args.material == "apple"
                                        else f"{args.material}-calibration")
     levels = [float(w) for w in args.levels.split(",")]
-    fitted = PAPER + [w for w in args.also.split(",") if w]
+    held = [w for w in args.hold.split(",") if w]
+    if [w for w in held if w not in PAPER]:
+        sys.exit(f"fit.py: --hold {args.hold}: each must be one of {', '.join(PAPER)}")
+    fitted = [w for w in PAPER if w not in held] + [w for w in args.also.split(",") if w]
     unknown = [w for w in fitted if w not in BOUNDS or w == "k_S"]
     if unknown:
         sys.exit(f"fit.py: --also {', '.join(unknown)}: not one of "
@@ -96,8 +107,9 @@ def main(argv=None):
         report("paper", n, result)
         paper = result
     result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
-                                 start=dict(start, k_S=0.02), bounds=BOUNDS, align_mode="rigid",
-                                 max_evaluations=80)
+                                 start=dict(start, k_S=0.02),
+                                 bounds={k: BOUNDS[k] for k in fitted + ["k_S"]},
+                                 align_mode="rigid", max_evaluations=80)
     report("kS", len(refs), result)
     if args.install_fit == "paper":
         result = paper
@@ -108,6 +120,7 @@ def main(argv=None):
         made = [f"# Made by: python3 examples/calibration/fit.py --material {args.material} "
                 f"--mfc {args.mfc} --out {args.out} --levels {args.levels}"
                 + (f" --also {args.also}" if args.also else "")
+                + (f" --hold {args.hold}" if args.hold else "")
                 + f" --install --install-fit {args.install_fit} (fit "
                 + (f"'paper-{len(levels)}'" if args.install_fit == "paper" else "'kS'")
                 + f", commit {commit})",
