@@ -253,6 +253,8 @@ def test_restart_continues_the_run(tmp_path):
     ("", "short", "misses GAB_C"),
     ("", "bad", "line 2: 'abc' is not a number"),
     ("", "unknown", "unknown parameter 'D_typo'"),
+    ("", "twice", "parameter D_ref given twice"),
+    ("", "blank", "line 4: 'abc' is not a number"),   # blank and comment lines count
     ("faces 3", None, "faces must be 0, 1 or 2"),
     ("layers 0", None, "layers must be >= 1"),
     ("humidity 1.5", None, "humidity is a relative humidity"),
@@ -265,7 +267,9 @@ def test_bad_input_names_the_cause(tmp_path, fix_args, params, message):
     good = PARAMS_FILE.read_text()
     files = {"short": good.replace("GAB_C ", "# GAB_C "),
              "bad": "X0 5.94\nD_ref abc\n",
-             "unknown": good + "D_typo 1.0\n"}
+             "unknown": good + "D_typo 1.0\n",
+             "twice": good + "D_ref 1e-9\n",
+             "blank": "X0 5.94\n\n# a note\nD_ref abc\n"}
     if params in files:
         (tmp_path / f"{params}.params").write_text(files[params])
         params = f"{params}.params"

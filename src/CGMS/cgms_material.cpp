@@ -7,16 +7,14 @@
 
 #include "cgms_material.h"
 
-#include "comm.h"
+#include "cgms_parameter_file.h"
+
 #include "error.h"
 #include "lammps.h"
 #include "math_const.h"
-#include "tokenizer.h"
 #include "utils.h"
 
 #include <cmath>
-#include <cstdio>
-#include <set>
 
 using namespace LAMMPS_NS;
 using MathConst::MY_PI;
@@ -87,44 +85,13 @@ const char *range_text(Range r)
 
 void CGMS::Material::read_file(LAMMPS *lmp, const std::string &file)
 {
-  std::string text;
-  int ok = 1;
-  if (lmp->comm->me == 0) {
-    FILE *fp = utils::open_potential(file, lmp, nullptr);
-    if (!fp) {
-      ok = 0;
-    } else {
-      char buf[4096];
-      size_t n;
-      while ((n = fread(buf, 1, sizeof(buf), fp)) > 0) text.append(buf, n);
-      fclose(fp);
-    }
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, lmp->world);
-  if (!ok)
-    lmp->error->all(FLERR,
-                    "Cannot open CGMS material file {}: give a path, or put it in a folder "
-                    "listed in LAMMPS_POTENTIALS",
-                    file);
-  int len = text.size();
-  MPI_Bcast(&len, 1, MPI_INT, 0, lmp->world);
-  text.resize(len);
-  MPI_Bcast(text.data(), len, MPI_CHAR, 0, lmp->world);
-
-  std::set<std::string> seen;
-  int lineno = 0;
-  for (const auto &rawline : Tokenizer(text, "\n").as_vector()) {
-    ++lineno;
-    std::string line = utils::trim_comment(rawline);
-    auto words = utils::split_words(line);
-    if (words.empty()) continue;
-    auto where = fmt::format("CGMS material file {} line {}", file, lineno);
-    if (words.size() != 2)
-      lmp->error->all(FLERR, "{}: expected 'name value', got '{}'", where, utils::trim(rawline));
-    if (!seen.insert(words[0]).second)
-      lmp->error->all(FLERR, "{}: parameter {} given twice", where, words[0]);
-    set(lmp, words[0], words[1], where);
-  }
+  const auto where = fmt::format("CGMS material file {}", file);
+  for (const auto &p : read_parameter_file(
+           lmp, file, where,
+           fmt::format("Cannot open CGMS material file {}: give a path, or put it in a folder "
+                       "listed in LAMMPS_POTENTIALS",
+                       file)))
+    set(lmp, p.name, p.value, fmt::format("{} line {}", where, p.line));
 }
 
 /* ---------------------------------------------------------------------- */

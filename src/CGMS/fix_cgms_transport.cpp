@@ -7,6 +7,8 @@
 
 #include "fix_cgms_transport.h"
 
+#include "cgms_parameter_file.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
@@ -18,12 +20,10 @@
 #include "neigh_request.h"
 #include "neighbor.h"
 #include "pair.h"
-#include "tokenizer.h"
 #include "update.h"
 
 #include <cmath>
 #include <cstring>
-#include <map>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -306,47 +306,26 @@ void FixCGMSTransport::read_params(const char *file)
   double *targets[] = {&x0,         &solids_density, &d_ref, &t_ref, &d_energy,
                        &d_moisture, &gab_xm,         &gab_c, &gab_k};
   const int n = 9;
-  double values[9];
-  if (comm->me == 0) {
-    FILE *fp = utils::open_potential(file, lmp, nullptr);
-    if (!fp)
-      error->one(FLERR,
-                 "Fix cgms/transport: cannot open parameter file {} (looked in the "
-                 "current folder and LAMMPS_POTENTIALS)",
-                 file);
-    std::map<std::string, double> found;
-    char line[1024];
-    int lineno = 0;
-    while (fgets(line, sizeof(line), fp)) {
-      lineno++;
-      std::string text = utils::trim_comment(line);
-      auto words = utils::split_words(text);
-      if (words.empty()) continue;
-      if (words.size() != 2)
-        error->one(FLERR, "Fix cgms/transport: {} line {}: expected 'name value', got '{}'", file,
-                   lineno, utils::trim(text));
-      bool known = false;
-      for (int k = 0; k < n; k++) known |= words[0] == names[k];
-      if (!known)
-        error->one(FLERR, "Fix cgms/transport: {} line {}: unknown parameter '{}'", file, lineno,
-                   words[0]);
-      if (!utils::is_double(words[1]))
-        error->one(FLERR, "Fix cgms/transport: {} line {}: '{}' is not a number", file, lineno,
-                   words[1]);
-      found[words[0]] = std::stod(words[1]);
-    }
-    fclose(fp);
-    std::string missing;
-    for (int k = 0; k < n; k++) {
-      if (found.count(names[k]))
-        values[k] = found[names[k]];
-      else
-        missing += std::string(missing.empty() ? "" : ", ") + names[k];
-    }
-    if (!missing.empty()) error->one(FLERR, "Fix cgms/transport: {} misses {}", file, missing);
+  const auto where = fmt::format("Fix cgms/transport: {}", file);
+  int given = 0;
+  for (const auto &p : CGMS::read_parameter_file(
+           lmp, file, where,
+           fmt::format("Fix cgms/transport: cannot open parameter file {} (looked in the "
+                       "current folder and LAMMPS_POTENTIALS)",
+                       file))) {
+    int k = 0;
+    while (k < n && p.name != names[k]) k++;
+    if (k == n)
+      error->all(FLERR, "{} line {}: unknown parameter '{}'", where, p.line, p.name);
+    if (!utils::is_double(p.value))
+      error->all(FLERR, "{} line {}: '{}' is not a number", where, p.line, p.value);
+    *targets[k] = std::stod(p.value);
+    given |= 1 << k;
   }
-  MPI_Bcast(values, n, MPI_DOUBLE, 0, world);
-  for (int k = 0; k < n; k++) *targets[k] = values[k];
+  std::string missing;
+  for (int k = 0; k < n; k++)
+    if (!(given & (1 << k))) missing += std::string(missing.empty() ? "" : ", ") + names[k];
+  if (!missing.empty()) error->all(FLERR, "{} misses {}", where, missing);
   if (!(x0 > 0.0) || !(solids_density > 0.0) || d_ref < 0.0 || !(gab_xm > 0.0) || !(gab_c > 1.0) ||
       !(gab_k > 0.0 && gab_k < 1.0))
     error->all(FLERR,
