@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import folders, mfc_metrics, mfc_run, mfc_tissue, positions, run, study
+from . import folders, mfc_metrics, mfc_run, mfc_tissue, morphology, positions, run, study
 from .study import level_name
 
 
@@ -51,7 +51,7 @@ def glue_fresh_lamella(out, centres, p):
     data, table = out / "lamella.data", out / "lamella.txt"
     if data.exists() and table.exists():
         return data, np.loadtxt(table, ndmin=2).reshape(-1, 2)[:, 1]   # one cell: none
-    xy = np.loadtxt(out / f"walls.{level_name(1.0)}.dump", skiprows=9, ndmin=2)[:, 3:5]
+    xy = morphology.read_dump(out / f"walls.{level_name(1.0)}.dump")[-1]["xy"]   # id order
     w = mfc_tissue.walls(centres, p)
     pairs, types, rest = mfc_tissue.fresh_lamella(xy, w["cell"], p)
     mfc_tissue.write_data(data, centres, p, xy=xy, lamella=(pairs, types), overwrite=True,
