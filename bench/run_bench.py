@@ -360,23 +360,32 @@ def callgrind_calls(path):
     return calls
 
 
-def annotate(path, inclusive):
-    """{function: Ir} from callgrind_annotate (inclusive or self)."""
+CACHE_EVENTS = ("Ir", "DLmr", "DLmw")  # instructions, last-level data read / write misses
+COUNT = r"([\d,]+|\.)\s+(?:\(\s*[\d.]+%\)\s+)?"
+
+
+def annotate(path, inclusive, events=("Ir",)):
+    """{function: Ir} from callgrind_annotate (inclusive or self); with several events,
+    {function: (count per event)}."""
     cmd = ["callgrind_annotate", f"--inclusive={'yes' if inclusive else 'no'}",
-           "--threshold=100", str(path)]
+           f"--show={','.join(events)}", f"--sort={events[0]}", "--threshold=100", str(path)]
     text = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
     res = {}
+    pattern = r"\s*" + COUNT * len(events) + r"(.*?)\s*(?:\[[^\]]*\])?\s*$"
     for line in text.splitlines():
-        m = re.match(r"\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(.*?)\s*(?:\[[^\]]*\])?\s*$", line)
+        m = re.match(pattern, line)
         if not m:
             continue
-        ir = int(m.group(1).replace(",", ""))
+        counts = [int(m.group(k + 1).replace(",", "").replace(".", "") or 0) for k in range(len(events))]
         # "file:function": the first single colon (C++ names carry "::")
-        fm = re.match(r"^(.*?[^:]):(?!:)(.*)$", m.group(2))
-        fn = fm.group(2) if fm else m.group(2)
-        if fn == "PROGRAM TOTALS":
+        fm = re.match(r"^(.*?[^:]):(?!:)(.*)$", m.group(len(events) + 1))
+        fn = fm.group(2) if fm else m.group(len(events) + 1)
+        if fn == "PROGRAM TOTALS" or not fn:
             continue
-        res[fn] = res.get(fn, 0) + ir
+        old = res.get(fn, [0] * len(events))
+        res[fn] = [a + b for a, b in zip(old, counts)]
+    if len(events) == 1:
+        res = {f: c[0] for f, c in res.items()}
     return res, text
 
 
@@ -444,6 +453,73 @@ def callgrind(args, mat, common, out, meta):
         for f, ir in top:
             print("  %5.1f%%  %12.1f Ir/bead-step  %s" % (100 * ir / total,
                                                        ir / (n * args.cg_steps), f))
+    return rows
+
+
+# groups of functions (self cost) for the cache profile, first match wins
+CACHE_GROUPS = (
+    ("pair", r"PairCGMS::|PairLJCut::"),
+    ("fix geometry pass", r"FixCGMSFluid::geometry_pass|FixCGMSFluid::(un)?pack_reverse"),
+    ("fix fluid pass", r"FixCGMSFluid::"),
+    ("neighbor", r"NPair|NBin|NStencil|Neighbor::|NeighList::|MyPage"),
+    ("comm, exchange, sort", r"Comm|AtomVec|Atom::sort|Domain::|Irregular|FixNVE::(un)?pack"),
+    ("nve, enforce2d", r"FixNVE::|FixEnforce2D::"),
+    ("memset, memcpy", r"mem(set|cpy|move)"),
+)
+
+
+def cache_profile(args, mat, common, out, meta):
+    """Callgrind's cache simulation of the MD loop of both cases (--cg-cache): instructions
+    and last-level data misses (read + write) per bead-step, by group of functions (self
+    cost). --LL sets the simulated last level: a small one (4 MiB) makes 10^5 beads miss
+    as 10^6 beads do on the real machine, where nothing stays cached between passes."""
+    ncols, nrows = args.cg_size
+    n, data_a, data_b = write_tissue(out, ncols, nrows, args.spacing_m, mat["x_ref"])
+    rows = []
+    for case, data, inp in (("A", data_a, "in.cgms"), ("B", data_b, "in.ljcut")):
+        cgout = out / f"cachegrind.{case}.out"
+        var = dict(common, data=str(data), steps=str(args.cg_steps))
+        if args.cg_plugin:
+            var["plugin"] = str(Path(args.cg_plugin).resolve())
+        cmd = ["valgrind", "--tool=callgrind", "--toggle-collect=*Verlet::run*",
+               "--cache-sim=yes", "--D1=32768,8,64", f"--LL={args.cg_ll},16,64",
+               f"--callgrind-out-file={cgout}"]
+        cmd += lmp_command(args, 1) + ["-in", str(HERE / inp), "-log", "none", "-screen", "none"]
+        for k, v in var.items():
+            cmd += ["-var", k, v]
+        meta[f"cache_command_{case}"] = " ".join(cmd)
+        print("running:", " ".join(cmd), flush=True)
+        res = subprocess.run(cmd, env=child_env(), cwd=out, capture_output=True, text=True)
+        (out / f"cachegrind.{case}.stderr").write_text(res.stderr)
+        if res.returncode != 0:
+            sys.exit(f"valgrind run {case} failed:\n{res.stderr[-3000:]}")
+        excl, text = annotate(cgout, False, CACHE_EVENTS)
+        (out / f"cachegrind.{case}.self.txt").write_text(text)
+        groups = {name: [0, 0, 0] for name, _ in CACHE_GROUPS}
+        groups["rest"] = [0, 0, 0]
+        total = [0, 0, 0]
+        for fn, counts in excl.items():
+            name = next((g for g, pat in CACHE_GROUPS if re.search(pat, fn)), "rest")
+            groups[name] = [a + b for a, b in zip(groups[name], counts)]
+            total = [a + b for a, b in zip(total, counts)]
+        groups["whole loop"] = total
+        per = n * args.cg_steps
+        for name, (ir, lr, lw) in groups.items():
+            rows.append(dict(case=case, style="cgms" if case == "A" else "lj/cut", group=name,
+                             atoms=n, steps=args.cg_steps, ir_per_bead_step=ir / per,
+                             ll_read_misses_per_bead_step=lr / per,
+                             ll_write_misses_per_bead_step=lw / per,
+                             ll_misses_per_bead_step=(lr + lw) / per))
+    write_csv(out / "cache.csv", rows)
+    print()
+    print(f"callgrind cache simulation, {n} beads x {args.cg_steps} steps, LL {args.cg_ll} B: "
+          "per bead-step (self cost by group)")
+    print("| case | group | Ir | LL read misses | LL write misses | LL misses |")
+    print("|---|---|---:|---:|---:|---:|")
+    for r in rows:
+        print("| %s | %s | %.1f | %.2f | %.2f | %.2f |" % (
+            r["style"], r["group"], r["ir_per_bead_step"], r["ll_read_misses_per_bead_step"],
+            r["ll_write_misses_per_bead_step"], r["ll_misses_per_bead_step"]))
     return rows
 
 
@@ -524,6 +600,10 @@ def main():
                     help="plugin for the callgrind runs only, e.g. a build with -g for "
                     "line-level annotation (default: the same snapshot as the timing)")
     ap.add_argument("--cg-top", type=int, default=12, help="functions in the top-self lists")
+    ap.add_argument("--cg-cache", action="store_true",
+                    help="also run callgrind's cache simulation (LL misses per bead-step)")
+    ap.add_argument("--cg-ll", type=int, default=4194304,
+                    help="simulated last-level cache size in bytes for --cg-cache (4 MiB)")
     args = ap.parse_args()
 
     if not args.lmp or not Path(args.lmp).exists():
@@ -562,6 +642,8 @@ def main():
             meta["summary"] = timing(args, mat, common, out, meta)
         if args.callgrind:
             meta["callgrind"] = callgrind(args, mat, common, out, meta)
+        if args.cg_cache:
+            meta["cache"] = cache_profile(args, mat, common, out, meta)
     finally:
         (out / "meta.json").write_text(json.dumps(meta, indent=1, default=str) + "\n")
     print(f"\nresults in {out}")

@@ -10,6 +10,7 @@
 #include "atom.h"
 #include "cgms_store.h"
 #include "error.h"
+#include "fix_cgms_fluid.h"
 #include "modify.h"
 
 #include <cstring>
@@ -31,13 +32,12 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullp
   bool registered = false;
   for (const auto &item : atom->peratom)
     if (item.name == FIELD) registered = true;
-  if (!registered) atom->add_peratom(FIELD, &CGMS::bead_array(lmp), Atom::DOUBLE, CGMS::NCOLUMNS);
+  if (!registered) atom->add_peratom(FIELD, &CGMS::bead_array(lmp), Atom::DOUBLE, CGMS::NSTATE);
 
-  // the whole array travels with a bead that changes rank: its state columns
-  // must, and the derived ones are small enough that splitting them would cost
-  // more code than bytes. Ghosts get none of it here: the only columns read
-  // for ghosts, the dryness (when it is not uniform) and the pair coefficient,
-  // fix cgms/fluid sends itself when they change (forward communication).
+  // the row (the bead's state, one cache line) travels with a bead that changes
+  // rank. Ghosts get none of it here: what is read for ghosts, the dryness (when
+  // it is not uniform) and the pair coefficient, fix cgms/fluid sends itself
+  // when they change (forward communication).
   fields_grow = {"rmass", FIELD};
   fields_copy = {"rmass", FIELD};
   fields_border = {"rmass"};
@@ -104,7 +104,7 @@ void AtomVecCGMS::grow_pointers()
 void AtomVecCGMS::create_atom_post(int ilocal)
 {
   rmass[ilocal] = 1.0;
-  for (int k = 0; k < CGMS::NCOLUMNS; k++) cgms[ilocal][k] = 0.0;
+  for (int k = 0; k < CGMS::NSTATE; k++) cgms[ilocal][k] = 0.0;
   cgms[ilocal][CGMS::MF0] = -1.0;
 }
 
@@ -117,20 +117,36 @@ void AtomVecCGMS::data_atom_post(int ilocal)
 
 int AtomVecCGMS::property_atom(const std::string &name)
 {
-  for (int k = 0; k < CGMS::NCOLUMNS; k++)
+  for (int k = 0; k < CGMS::NOUTPUTS; k++)
     if (name == CGMS::column_names[k]) return k;
   return -1;
 }
 
 /* ---------------------------------------------------------------------- */
 
+/* ----------------------------------------------------------------------
+   index is a CGMS::Output column: the state columns come from the row, the
+   others from fix cgms/fluid, which derives them now from the state and its
+   last geometry pass (0 without the fix)
+------------------------------------------------------------------------- */
+
 void AtomVecCGMS::pack_property_atom(int index, double *buf, int nvalues, int groupbit)
 {
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
+  int column = -1;
+  for (int k = 0; k < CGMS::NSTATE; k++)
+    if (CGMS::STATE_OUTPUT[k] == index) column = k;
+  if (column < 0) {
+    const auto fixes = modify->get_fix_by_style("^cgms/fluid$");
+    if (!fixes.empty()) {
+      dynamic_cast<FixCGMSFluid *>(fixes.front())->pack_output(index, buf, nvalues, groupbit);
+      return;
+    }
+  }
   int n = 0;
   for (int i = 0; i < nlocal; i++) {
-    buf[n] = (mask[i] & groupbit) ? cgms[i][index] : 0.0;
+    buf[n] = (mask[i] & groupbit) && column >= 0 ? cgms[i][column] : 0.0;
     n += nvalues;
   }
 }

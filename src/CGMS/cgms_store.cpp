@@ -19,7 +19,7 @@
 
 using namespace LAMMPS_NS;
 
-const char *const CGMS::column_names[CGMS::NCOLUMNS] = {
+const char *const CGMS::column_names[CGMS::NOUTPUTS] = {
     "cgmscoef", "dryness", "nneigh",   "side", "mf",    "ms",   "mf0",
     "l0p",      "rho",     "pressure", "area", "perim", "ldeq", "dmdt"};
 

@@ -16,40 +16,58 @@ class LAMMPS;
 
 namespace CGMS {
 
-  // Columns of the per-bead array "cgms" carried by atom_style cgms.
-  // The first four are read for every neighbour pair in the pair and fix
-  // loops and sit together so that a neighbour costs one cache line; then the
-  // state that must survive migration and restarts; then values recomputed
-  // every step by fix cgms/fluid and kept for output.
-  enum Column {
-    COEF = 0,    // pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2 (N)
-    DRYNESS,     // prescribed dryness s = (X/X0)_i
-    NNEIGH,      // neighbour count N
-    SIDE,        // virtual-cell side b_avg (m)
-    MF,          // fluid-phase mass m_f (kg)
-    MS,          // solid-phase mass m_s (kg)
-    MF0,         // fresh fluid mass m_f0 (kg); <= 0 marks a bead not yet initialised
-    L0P,         // turgid perimeter l0' (m)
-    RHO,         // fluid density (kg/m^3); state in the rate form of eqns (5)-(6)
-    PRESS,       // turgor pressure P (Pa)
-    AREA,        // virtual-cell area A (m^2)
-    PERIM,       // virtual-cell perimeter l (m)
-    LDEQ,        // equilibrium perimeter l_d (m), eqn (9)
-    DMDT,        // fluid mass rate dm_f/dt (kg/s), eqn (7)
-    NCOLUMNS
+  // Columns of the per-bead array "cgms" carried by atom_style cgms: the state
+  // of a bead, what must survive migration, restarts and data files. Eight
+  // doubles, one cache line: the fluid pass reads and writes each row once per
+  // step, and nothing else lives in it (the outputs below are derived from it).
+  enum State {
+    DRYNESS = 0,    // prescribed dryness s = (X/X0)_i
+    MF,             // fluid-phase mass m_f (kg)
+    MS,             // solid-phase mass m_s (kg)
+    MF0,            // fresh fluid mass m_f0 (kg); <= 0 marks a bead not yet initialised
+    L0P,            // turgid perimeter l0' (m)
+    RHO,            // fluid density (kg/m^3); state in the rate form of eqns (5)-(6)
+    AREA,           // virtual-cell area A (m^2) of the last fluid pass
+    DMDT,           // fluid mass rate dm_f/dt (kg/s), eqn (7), of the last fluid pass
+    NSTATE
   };
 
-  // Names of the columns for dump custom, compute property/atom and the fix's
-  // per-atom array, in column order.
-  extern const char *const column_names[NCOLUMNS];
+  // Columns of a bead's outputs, in the order of fix cgms/fluid's per-atom array
+  // (f_ID[1] to f_ID[14]) and with the names compute property/atom knows. The
+  // state columns are copies of the row; the others fix cgms/fluid derives
+  // from the row and the neighbour sums of its last geometry pass when an
+  // output asks for them (FixCGMSFluid::bead_outputs).
+  enum Output {
+    OUT_COEF = 0,    // pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2 (N)
+    OUT_DRYNESS,
+    OUT_NNEIGH,    // neighbour count N
+    OUT_SIDE,      // virtual-cell side b_avg (m)
+    OUT_MF,
+    OUT_MS,
+    OUT_MF0,
+    OUT_L0P,
+    OUT_RHO,
+    OUT_PRESS,    // turgor pressure P (Pa), eqn (4)
+    OUT_AREA,
+    OUT_PERIM,    // virtual-cell perimeter l (m)
+    OUT_LDEQ,     // equilibrium perimeter l_d (m), eqn (9)
+    OUT_DMDT,
+    NOUTPUTS
+  };
+
+  // Names of the output columns for dump custom, compute property/atom and the
+  // fix's per-atom array, in output order.
+  extern const char *const column_names[NOUTPUTS];
+  // the output column of each state column
+  constexpr int STATE_OUTPUT[NSTATE] = {OUT_DRYNESS, OUT_MF,  OUT_MS,   OUT_MF0,
+                                        OUT_L0P,     OUT_RHO, OUT_AREA, OUT_DMDT};
 
   // The fluid state a data file carries (write_data writes it as the section
   // DATA_SECTION through fix cgms/fluid; read_data reads it into the per-atom
   // array DATA_PROPERTY of the fix property/atom DATA_FIX that atom_style cgms
-  // defines, as 'read_data file fix CGMS NULL CGMS'); the other columns are
-  // recomputed at setup from these and the positions
-  constexpr int DATA_COLUMNS[] = {DRYNESS, MF, MS, MF0, L0P, RHO, AREA, DMDT};
-  constexpr int NDATA = sizeof(DATA_COLUMNS) / sizeof(DATA_COLUMNS[0]);
+  // defines, as 'read_data file fix CGMS NULL CGMS'): the whole row, in row
+  // order; the outputs are recomputed at setup from it and the positions
+  constexpr int NDATA = NSTATE;
   constexpr char DATA_SECTION[] = "CGMS";
   constexpr char DATA_FIX[] = "CGMS";
   constexpr char DATA_PROPERTY[] = "cgms_data";

@@ -19,12 +19,14 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "output.h"
 #include "pair_cgms.h"
 #include "update.h"
 #include "variable.h"
 
 #include <cmath>
 #include <cstring>
+#include <numeric>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -46,6 +48,54 @@ static const struct InverseCounts {
   }
   double operator[](int n) const { return value[n]; }
 } INV_SQRT3_N;
+
+/* ----------------------------------------------------------------------
+   the formulas both the fluid pass and the outputs use (one copy each, so the
+   outputs an output step computes are the pass's numbers to the last bit)
+------------------------------------------------------------------------- */
+
+namespace {
+// the virtual-cell side b_avg of eqns (10)-(11) of a bead with nn neighbours at a
+// summed centre distance sum_r; b_ref for a bead without neighbours
+inline double cell_side(double nn, double sum_r, double beta, double pectin, double b_ref)
+{
+  if (!(nn > 0.0)) return b_ref;
+  const int n_int = static_cast<int>(nn);
+  const double inv_n = n_int < MAXCOUNT ? INV_SQRT3_N[n_int] : 1.0 / (SQRT3 * nn);
+  const double b_int = (sum_r - nn * pectin) * inv_n;
+  return b_int * (1.0 / 6.0) * (nn + beta * MAX(0.0, 6.0 - nn));
+}
+
+// what depends on the dryness alone: recomputed when it changes from one bead to the next
+struct DrynessLaws {
+  double s = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
+
+  void set(double s_new, const Material &mat, int periphery)
+  {
+    s = s_new;
+    beta = periphery ? mat.beta(s) : 1.0;
+    inv_rho_ref = 1.0 / (s * mat.rho0);
+    P_ref = s * mat.P_f;
+    Pi = s * mat.Pi_f;
+    ld_factor = 1.0 - mat.perim_a / mat.perim_b * (1.0 - s);
+  }
+  // q^7 = (rho / rho_ref)^7 and the Tait pressure of eqn (4)
+  double q7(double rho) const
+  {
+    const double q = rho * inv_rho_ref;
+    const double q2 = q * q;
+    return q2 * q2 * q2 * q;
+  }
+  double pressure(double q7, double K) const { return P_ref + K * (q7 - 1.0); }
+};
+
+// the paper's pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2
+inline double pair_coefficient(double kT, double kPA, double P_f, double press, double perim,
+                               double ldeq)
+{
+  return 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
+}
+}    // namespace
 
 /* ----------------------------------------------------------------------
    the explicit time-step limits of a bead of inertial mass m with nn
@@ -117,9 +167,9 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr), sums(nullptr),
-    nmax_bead(0), rdist(nullptr), rdist_size(0), rdist_builds(-1), rdist_list(nullptr),
-    rdist_valid(0), comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0),
+    dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr),
+    nmax_bead(0), sums(nullptr), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1), passes_done(0), rdist(nullptr), rdist_size(0), rdist_builds(-1), rdist_list(nullptr),
+    rdist_valid(0), comm_column(-1), work(nullptr), nmax_work(0), energy_local(0.0),
     vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
@@ -168,11 +218,22 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
       always_balance = utils::logical(FLERR, val, false, lmp);
     } else if (key == "isolated") {
       allow_isolated = choice(key, val, "error", "allow");
+    } else if (key == "output") {
+      // the steps on which the per-atom array f_ID[1-14] is filled: every N, or
+      // auto: the steps the run's thermo and dumps write (set_output_frequency)
+      if (strcmp(val, "auto") == 0) {
+        output_every = 0;
+      } else {
+        output_every = utils::inumeric(FLERR, val, false, lmp);
+        if (output_every < 1)
+          error->all(FLERR, "Fix cgms/fluid output must be 'auto' or a step count >= 1, not {}",
+                     val);
+      }
     } else {
       error->all(
           FLERR,
           "Unknown fix cgms/fluid keyword '{}' (known: dryness diameter every density inertia "
-          "transfer transfer/scheme minimize balance isolated)",
+          "transfer transfer/scheme minimize balance isolated output)",
           key);
     }
     iarg += 2;
@@ -191,14 +252,15 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   energy_global_flag = 1;
   thermo_energy = 1;
   peratom_flag = 1;
-  size_peratom_cols = NCOLUMNS;
-  peratom_freq = 1;
+  size_peratom_cols = NOUTPUTS;
+  peratom_freq = output_every > 0 ? output_every : 1;
   comm_forward = 1;
   comm_reverse = 2;
   wd_section = 1;          // the fluid state travels with write_data
   create_attribute = 1;    // set_arrays() learns of beads created during a run
 
-  array_atom = bead_array(lmp);
+  maxexchange = NOUTPUTS + 2;
+  grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
 }
 
@@ -212,6 +274,7 @@ FixCGMSFluid::~FixCGMSFluid()
   memory->destroy(work);
   memory->destroy(coef);
   memory->destroy(sums);
+  memory->destroy(outputs);
   memory->destroy(rdist);
 }
 
@@ -226,7 +289,8 @@ const double *FixCGMSFluid::distances_for(const NeighList *l) const
 
 double FixCGMSFluid::memory_usage()
 {
-  return sizeof(double) * (3.0 * nmax_bead + (double) rdist_size + nmax_work);
+  return sizeof(double) *
+      (nmax_bead + (2.0 + NOUTPUTS) * atom->nmax + (double) rdist_size + nmax_work);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -244,6 +308,9 @@ int FixCGMSFluid::setmask()
 
 void FixCGMSFluid::post_run()
 {
+  // between runs the per-atom array holds the last step's outputs, and any step
+  // is compatible with it (write_dump, variables); the next run sets it again
+  peratom_freq = output_every > 0 ? output_every : 1;
   if (update->whichflag != 2 || !sums) return;
   double most_local = 0.0, most = 0.0;
   for (int i = 0; i < atom->nlocal; i++) most_local = MAX(most_local, sums[2 * i]);
@@ -287,6 +354,7 @@ void FixCGMSFluid::init()
                "integrates forward in time",
                update->dt);
   if (update->whichflag == 2) limit_minimizer_step();
+  peratom_freq = init_output_every = output_frequency();
 
   neighbor->add_request(this);
 }
@@ -349,9 +417,40 @@ void FixCGMSFluid::init_list(int, NeighList *ptr)
 
 /* ---------------------------------------------------------------------- */
 
-void FixCGMSFluid::grow_arrays(int)
+void FixCGMSFluid::grow_arrays(int nmax)
 {
-  array_atom = bead_array(lmp);
+  const int nold = nmax_outputs;
+  memory->grow(sums, 2 * nmax, "cgms/fluid:sums");
+  memory->grow(outputs, nmax, NOUTPUTS, "cgms/fluid:outputs");
+  for (int i = nold; i < nmax; i++) {
+    sums[2 * i] = sums[2 * i + 1] = 0.0;
+    for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
+  }
+  nmax_outputs = nmax;
+  array_atom = outputs;
+}
+
+void FixCGMSFluid::copy_arrays(int i, int j, int)
+{
+  sums[2 * j] = sums[2 * i];
+  sums[2 * j + 1] = sums[2 * i + 1];
+  for (int k = 0; k < NOUTPUTS; k++) outputs[j][k] = outputs[i][k];
+}
+
+int FixCGMSFluid::pack_exchange(int i, double *buf)
+{
+  buf[0] = sums[2 * i];
+  buf[1] = sums[2 * i + 1];
+  for (int k = 0; k < NOUTPUTS; k++) buf[2 + k] = outputs[i][k];
+  return NOUTPUTS + 2;
+}
+
+int FixCGMSFluid::unpack_exchange(int nlocal, double *buf)
+{
+  sums[2 * nlocal] = buf[0];
+  sums[2 * nlocal + 1] = buf[1];
+  for (int k = 0; k < NOUTPUTS; k++) outputs[nlocal][k] = buf[2 + k];
+  return NOUTPUTS + 2;
 }
 
 /* ----------------------------------------------------------------------
@@ -359,9 +458,11 @@ void FixCGMSFluid::grow_arrays(int)
    has no fluid state; the next fluid pass looks for such beads
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::set_arrays(int)
+void FixCGMSFluid::set_arrays(int i)
 {
   beads_added = 1;
+  sums[2 * i] = sums[2 * i + 1] = 0.0;
+  for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
 }
 
 /* ----------------------------------------------------------------------
@@ -371,7 +472,9 @@ void FixCGMSFluid::set_arrays(int)
 
 void FixCGMSFluid::setup_pre_force(int)
 {
-  array_atom = bead_array(lmp);
+  // a run with 'pre no' skips init(): its first and last step count too, and
+  // the consumers init() checked against its frequency must stay compatible
+  peratom_freq = std::gcd(init_output_every, output_frequency());
   vector_step = -1;    // the state may have changed between runs at the same step
   check_setup_input();
   const bigint loaded = load_data_file_state();
@@ -562,13 +665,11 @@ bigint FixCGMSFluid::load_data_file_state()
   if (index >= 0 && flag == 1 && cols == NDATA) {
     double **data = atom->darray[index];
     double **cg = bead_array(lmp);
-    int mf0_column = 0;
-    for (int k = 0; k < NDATA; k++)
-      if (DATA_COLUMNS[k] == MF0) mf0_column = k;
+    // the section holds the row, column by column
     for (int i = 0; i < atom->nlocal; i++) {
-      if (cg[i][MF0] > 0.0 || !(data[i][mf0_column] > 0.0)) continue;
-      for (int k = 0; k < NDATA; k++) cg[i][DATA_COLUMNS[k]] = data[i][k];
-      data[i][mf0_column] = 0.0;    // taken over: the bead's own state rules from now on
+      if (cg[i][MF0] > 0.0 || !(data[i][MF0] > 0.0)) continue;
+      for (int k = 0; k < NDATA; k++) cg[i][k] = data[i][k];
+      data[i][MF0] = 0.0;    // taken over: the bead's own state rules from now on
       loaded++;
     }
   }
@@ -591,9 +692,10 @@ void FixCGMSFluid::warn_if_dried(bigint fresh)
   // interior beads (six neighbours or more): their side against the reference side
   double local[2] = {0.0, 0.0}, global[2];
   for (int i = 0; i < atom->nlocal; i++) {
-    if (cg[i][NNEIGH] < 6.0) continue;
+    if (sums[2 * i] < 6.0) continue;
     const double b_ref = cg[i][L0P] / (6.0 * mat.turgid_ratio);
-    local[0] += cg[i][SIDE] / b_ref;
+    const double beta = pair->periphery ? mat.beta(cg[i][DRYNESS]) : 1.0;
+    local[0] += cell_side(sums[2 * i], sums[2 * i + 1], beta, mat.pectin, mat.b_ref) / b_ref;
     local[1] += 1.0;
   }
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
@@ -611,7 +713,7 @@ void FixCGMSFluid::warn_if_dried(bigint fresh)
 
 /* ----------------------------------------------------------------------
    write_data: the section DATA_SECTION, one line "id value ..." per bead with
-   the DATA_COLUMNS of its state, at full precision
+   its state row, at full precision
 ------------------------------------------------------------------------- */
 
 void FixCGMSFluid::write_data_section_size(int, int &nx, int &ny)
@@ -625,14 +727,14 @@ void FixCGMSFluid::write_data_section_pack(int, double **buf)
   double **cg = bead_array(lmp);
   for (int i = 0; i < atom->nlocal; i++) {
     buf[i][0] = ubuf(atom->tag[i]).d;
-    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = cg[i][DATA_COLUMNS[k]];
+    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = cg[i][k];
   }
 }
 
 void FixCGMSFluid::write_data_section_keyword(int, FILE *fp)
 {
   std::string hint;
-  for (int k = 0; k < NDATA; k++) hint += std::string(" ") + column_names[DATA_COLUMNS[k]];
+  for (int k = 0; k < NDATA; k++) hint += std::string(" ") + column_names[STATE_OUTPUT[k]];
   fmt::print(fp, "\n{} # id{}\n\n", DATA_SECTION, hint);
 }
 
@@ -665,7 +767,10 @@ void FixCGMSFluid::update_fluid_state(int advance)
 {
   energy_local = 0.0;
   // with turgor, perimeter and mass transfer all off nothing reads this state
-  if (!pair->pair_coefficient_needed() && !transfer) return;
+  if (!pair->pair_coefficient_needed() && !transfer) {
+    if (output_step()) fill_outputs();
+    return;
+  }
 
   geometry_pass();
   // before the stability checks, which would blame the time step
@@ -673,7 +778,9 @@ void FixCGMSFluid::update_fluid_state(int advance)
   Trouble trouble;
   fluid_pass(advance, trouble);
   stop_if_unstable(trouble);
-  if (pair->pair_coefficient_needed()) forward(COEF);
+  passes_done = 1;
+  if (output_step()) fill_outputs();
+  if (pair->pair_coefficient_needed()) forward(-1);
 }
 
 /* ----------------------------------------------------------------------
@@ -702,9 +809,7 @@ void FixCGMSFluid::geometry_pass()
   if (atom->nmax > nmax_bead) {
     nmax_bead = atom->nmax;
     memory->destroy(coef);
-    memory->destroy(sums);
     memory->create(coef, nmax_bead, "cgms/fluid:coef");
-    memory->create(sums, 2 * nmax_bead, "cgms/fluid:sums");
   }
   // the list's length changes only when it is built
   if (neighbor->ncalls != rdist_builds || list->firstneigh != rdist_list) {
@@ -796,7 +901,6 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
   const double inv_h = 1.0 / mat.height;
   const double conductance = mat.height * mat.L_p;    // membrane area l h times L_p, per l
   const double L_p = mat.L_p;
-  const double perim_slope = mat.perim_a / mat.perim_b;
   const int advance_mass = advance && transfer;
   // the quasi-static solve: under minimize every bead holds the pressure of
   // the steady state, P = -Pi (doc/model.md, Steady state), its density from eqn (4) and the
@@ -838,7 +942,8 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
     natoms_known = atom->natoms;
   }
 
-  double s_prev = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
+  DrynessLaws at;
+  const int periphery = pair->periphery;
   for (int i = 0; i < nlocal; i++) {
     double *c = cg[i];
 
@@ -850,26 +955,12 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
     }
 
     const double s = c[DRYNESS];
-    if (s != s_prev) {
-      s_prev = s;
-      beta = pair->periphery ? mat.beta(s) : 1.0;
-      inv_rho_ref = 1.0 / (s * mat.rho0);
-      P_ref = s * P_f;
-      Pi = s * mat.Pi_f;
-      ld_factor = 1.0 - perim_slope * (1.0 - s);
-    }
+    if (s != at.s) at.set(s, mat, periphery);
+    const double beta = at.beta, inv_rho_ref = at.inv_rho_ref, P_ref = at.P_ref, Pi = at.Pi;
 
     const double nn = sums[2 * i];
-    double b;
-    if (nn > 0.0) {
-      const int n_int = static_cast<int>(nn);
-      const double inv_n = n_int < MAXCOUNT ? INV_SQRT3_N[n_int] : 1.0 / (SQRT3 * nn);
-      const double b_int = (sums[2 * i + 1] - nn * pectin) * inv_n;
-      b = b_int * (1.0 / 6.0) * (nn + beta * MAX(0.0, 6.0 - nn));
-    } else {
-      if (!allow_isolated && isolated < 0) isolated = i;
-      b = b_ref;
-    }
+    if (!(nn > 0.0) && !allow_isolated && isolated < 0) isolated = i;
+    const double b = cell_side(nn, sums[2 * i + 1], beta, pectin, b_ref);
     const double area = HEX_AREA * b * b;
     const double inv_area = 1.0 / area;
     const double perim = 6.0 * b;
@@ -891,11 +982,9 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
       rho = c[MF] * inv_h * inv_area;
     }
 
-    const double q = rho * inv_rho_ref;
-    const double q2 = q * q;
-    const double q7 = q2 * q2 * q2 * q;
-    const double press = P_ref + K * (q7 - 1.0);
-    const double ldeq = c[L0P] * ld_factor;
+    const double q7 = at.q7(rho);
+    const double press = at.pressure(q7, K);
+    const double ldeq = c[L0P] * at.ld_factor;
 
     // eqn (7), and for the implicit scheme divided by 1 + dt lambda with
     // lambda = -d(dm_f/dt)/dm_f = L_p (l/A) (P + Pi + 7 K q^7) when positive
@@ -909,15 +998,13 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
       }
     }
 
-    c[NNEIGH] = nn;
-    c[SIDE] = b;
+    // the state row only (one cache line); the outputs (N, side, perimeter,
+    // pressure, l_d, the coefficient) are derived from it and the sums when an
+    // output asks (bead_outputs)
     c[AREA] = area;
-    c[PERIM] = perim;
     c[RHO] = rho;
-    c[PRESS] = press;
-    c[LDEQ] = ldeq;
     c[DMDT] = dmdt;
-    c[COEF] = coef[i] = 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
+    coef[i] = pair_coefficient(kT, kPA, P_f, press, perim, ldeq);
     // the cell-shape term's share of bead i, k_S xbar_i (xbar_i = sum_k x_ik / N);
     // the per-atom output keeps the paper's turgor and perimeter coefficient
     if (kS > 0.0 && nn > 0.0) coef[i] += kS * sums[2 * i + 1] / nn;
@@ -957,11 +1044,11 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
       }
     }
     if (shape_check && limits.shape_exceeded(rmass[i], nn) &&
-        (shaky < 0 || rmass[i] * cg[shaky][NNEIGH] < rmass[shaky] * nn))
+        (shaky < 0 || rmass[i] * sums[2 * shaky] < rmass[shaky] * nn))
       shaky = i;
     // damping stability (see damping_limit_error): the smallest m / N fails first
     if (limits.damping_exceeded(rmass[i], nn) &&
-        (unstable < 0 || rmass[i] * cg[unstable][NNEIGH] < rmass[unstable] * nn))
+        (unstable < 0 || rmass[i] * sums[2 * unstable] < rmass[unstable] * nn))
       unstable = i;
   }
 
@@ -1013,8 +1100,8 @@ void FixCGMSFluid::stop_if_unstable(const Trouble &t)
                "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
                "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
                dt, mat.k_S, update->ntimestep,
-               StepLimits(*pair, dt).shape(rmass[shaky], cg[shaky][NNEIGH]), atom->tag[shaky],
-               rmass[shaky], cg[shaky][NNEIGH]);
+               StepLimits(*pair, dt).shape(rmass[shaky], sums[2 * shaky]), atom->tag[shaky],
+               rmass[shaky], sums[2 * shaky]);
   if (stiff >= 0 && t.after_change)
     error->one(FLERR,
                "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
@@ -1182,7 +1269,7 @@ void FixCGMSFluid::isolated_error(int i)
 void FixCGMSFluid::damping_limit_error(int i)
 {
   const double m = atom->rmass[i];
-  const double nn = bead_array(lmp)[i][NNEIGH];
+  const double nn = sums[2 * i];
   // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
   // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
   // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does
@@ -1281,11 +1368,13 @@ void FixCGMSFluid::refresh_vector()
   // from the neighbour sums of the last geometry pass; reduced as rates 1/dt^2
   const StepLimits limits(*pair, update->dt);
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
+  double out[NOUTPUTS];
   for (int i = 0; i < nlocal; i++) {
     const double *c = cg[i];
-    local_max[0] = MAX(local_max[0], fabs(c[PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
-    const double nn = c[NNEIGH];
-    if (nn > 0.0 && sums) {
+    bead_outputs(i, out);
+    local_max[0] = MAX(local_max[0], fabs(out[OUT_PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
+    const double nn = out[OUT_NNEIGH];
+    if (nn > 0.0) {
       const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
       const double q7 = q * q * q * q * q * q * q;
       const double limit = limits.smallest(rmass[i], nn, q7, sums[2 * i + 1] - nn * mat.pectin);
@@ -1309,7 +1398,99 @@ void FixCGMSFluid::refresh_vector()
   vector_step = update->ntimestep;
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   the per-atom array f_ID[1-14] is read by LAMMPS (dumps, fix ave/atom,
+   variables, compute reduce, the library) without asking the fix first, and
+   filling it costs a stream over every bead: it is filled only on the steps
+   that are multiples of peratom_freq, and LAMMPS refuses a read at any other
+   step during a run ("not computed at compatible time"). 'output auto' takes
+   the largest step count that every thermo and dump step of this run, and its
+   first and last step, are multiples of; 'output N' takes N (1: every step).
+   Under minimize every step (the minimizer's iterations are its outputs).
+------------------------------------------------------------------------- */
+
+int FixCGMSFluid::output_frequency() const
+{
+  if (output_every > 0 || update->whichflag != 1) return output_every > 0 ? output_every : 1;
+  bigint every = 0;
+  auto include = [&every](bigint step) {
+    if (step > 0) every = std::gcd(every, step);
+  };
+  include(update->firststep);
+  include(update->laststep);
+  if (output->var_thermo) every = 1;
+  include(output->thermo_every);
+  for (int i = 0; i < output->ndump; i++) {
+    if (output->mode_dump[i] != 0 || output->every_dump[i] <= 0) every = 1;
+    include(output->every_dump[i]);
+  }
+  if (every <= 0 || every > MAXSMALLINT) every = 1;
+  return static_cast<int>(every);
+}
+
+int FixCGMSFluid::output_step() const
+{
+  return update->setupflag || update->whichflag != 1 || update->ntimestep % peratom_freq == 0 ||
+      update->ntimestep == update->laststep;
+}
+
+/* ----------------------------------------------------------------------
+   the outputs of local bead i (CGMS::Output columns): its state, and what the
+   fluid pass derived from the state and the neighbour sums, recomputed by the
+   same formulas; 0 where no pass has computed them yet (or the pair style
+   that holds the material is gone)
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::bead_outputs(int i, double *out) const
+{
+  const auto *pair = dynamic_cast<const PairCGMS *>(force->pair);
+  const double *c = bead_array(lmp)[i];
+  for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = c[k];
+  out[OUT_COEF] = out[OUT_NNEIGH] = out[OUT_SIDE] = 0.0;
+  out[OUT_PRESS] = out[OUT_PERIM] = out[OUT_LDEQ] = 0.0;
+  if (!passes_done || !pair || !(c[MF0] > 0.0)) return;
+
+  const Material &mat = pair->material();
+  DrynessLaws at;
+  at.set(c[DRYNESS], mat, pair->periphery);
+  const double nn = sums[2 * i];
+  const double b = cell_side(nn, sums[2 * i + 1], at.beta, mat.pectin, mat.b_ref);
+  const double perim = 6.0 * b;
+  const double press = at.pressure(at.q7(c[RHO]), mat.K);
+  const double ldeq = c[L0P] * at.ld_factor;
+  out[OUT_NNEIGH] = nn;
+  out[OUT_SIDE] = b;
+  out[OUT_PERIM] = perim;
+  out[OUT_PRESS] = press;
+  out[OUT_LDEQ] = ldeq;
+  out[OUT_COEF] = pair_coefficient(pair->turgor ? mat.k_T : 0.0, pair->perimeter ? mat.k_PA : 0.0,
+                                   mat.P_f, press, perim, ldeq);
+}
+
+void FixCGMSFluid::fill_outputs()
+{
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) bead_outputs(i, outputs[i]);
+}
+
+void FixCGMSFluid::pack_output(int column, double *buf, int nvalues, int groupbit)
+{
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+  double out[NOUTPUTS];
+  for (int i = 0, n = 0; i < nlocal; i++, n += nvalues) {
+    if (mask[i] & groupbit) {
+      bead_outputs(i, out);
+      buf[n] = out[column];
+    } else {
+      buf[n] = 0.0;
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   column >= 0: that column of the state row; -1: the pair coefficients
+------------------------------------------------------------------------- */
 
 void FixCGMSFluid::forward(int column)
 {
@@ -1319,7 +1500,7 @@ void FixCGMSFluid::forward(int column)
 
 int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
-  if (comm_column == COEF) {
+  if (comm_column < 0) {
     for (int i = 0; i < n; i++) buf[i] = coef[list[i]];
   } else {
     double **cg = bead_array(lmp);
@@ -1330,7 +1511,7 @@ int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 
 void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
 {
-  if (comm_column == COEF) {
+  if (comm_column < 0) {
     for (int i = 0; i < n; i++) coef[first + i] = buf[i];
   } else {
     double **cg = bead_array(lmp);

@@ -31,7 +31,10 @@ class FixCGMSFluid : public Fix {
   double compute_scalar() override;
   double compute_vector(int) override;
   void grow_arrays(int) override;
+  void copy_arrays(int, int, int) override;
   void set_arrays(int) override;
+  int pack_exchange(int, double *) override;
+  int unpack_exchange(int, double *) override;
 
   void write_data_section_size(int, int &, int &) override;
   void write_data_section_pack(int, double **) override;
@@ -49,6 +52,10 @@ class FixCGMSFluid : public Fix {
   const double *pair_coefficients() const { return coef; }
   const double *distances_for(const class NeighList *) const;
   void distances_used() { rdist_valid = 0; }
+
+  // column (CGMS::Output) of every local bead's outputs for compute
+  // property/atom, computed now from its state and the last geometry pass
+  void pack_output(int column, double *buf, int nvalues, int groupbit);
 
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
@@ -81,15 +88,24 @@ class FixCGMSFluid : public Fix {
   // compact per-bead copies of what the per-pair loops touch, so that a
   // neighbour costs 8 or 16 bytes instead of a 112-byte row
   double *coef;     // pair coefficient (local and ghost beads)
-  double *sums;     // geometry pass: neighbour count, sum of distances (2 per bead)
-  int nmax_bead;    // length of coef (sums: twice that)
+  int nmax_bead;    // length of coef
+  // geometry pass: neighbour count and sum of distances (2 per bead, local and
+  // ghost; per-atom, they travel with the beads: outputs derive from them)
+  double *sums;
+  // the per-atom output array f_ID[1-14] (CGMS::Output columns), filled from
+  // the state and the sums on the steps an output may read it (output_step)
+  double **outputs;
+  int nmax_outputs;    // rows of outputs (and beads of sums)
+  int output_every;    // the keyword output: N, or 0 for auto (init)
+  int init_output_every;    // peratom_freq set by init()
+  int passes_done;     // the geometry and fluid passes have run (sums valid)
   double *rdist;    // distance per neighbour-list entry (see distances_for)
   bigint rdist_size;
   bigint rdist_builds;    // neighbor->ncalls when rdist was sized for the list
   int **rdist_list;       // firstneigh of the list rdist follows
   int rdist_valid;        // set by the geometry pass, cleared by the pair after use
 
-  int comm_column;    // column sent by forward communication
+  int comm_column;    // row column sent by forward communication (-1: the pair coefficients)
   double *work;       // per-bead values of a keyword (dryness, diameter)
   int nmax_work;
 
@@ -128,6 +144,10 @@ class FixCGMSFluid : public Fix {
   void isolated_error(int);
   void forward(int column);
   void refresh_vector();
+  int output_frequency() const;
+  int output_step() const;
+  void bead_outputs(int, double *) const;
+  void fill_outputs();
 };
 
 }    // namespace LAMMPS_NS
