@@ -12,9 +12,10 @@
 
 namespace LAMMPS_NS {
 
-// One bead per plant cell: per-atom mass plus the per-bead array "cgms"
-// (fluid and solid mass, dryness, fresh state, and the per-step virtual-cell
-// geometry, density and pressure written by fix cgms/fluid).
+// One bead per plant cell: per-atom mass plus the per-bead array "cgms", the
+// bead's state (dryness, fluid and solid mass, fresh state, density, area,
+// mass rate: CGMS::State); the outputs fix cgms/fluid derives from it are
+// named for compute property/atom here (CGMS::Output).
 class AtomVecCGMS : public AtomVec {
  public:
   AtomVecCGMS(class LAMMPS *);

@@ -167,8 +167,9 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr),
-    nmax_bead(0), sums(nullptr), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1), passes_done(0), rdist(nullptr), rdist_size(0), rdist_builds(-1), rdist_list(nullptr),
+    dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr), nmax_bead(0),
+    sums(nullptr), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1),
+    passes_done(0), rdist(nullptr), rdist_size(0), rdist_builds(-1), rdist_list(nullptr),
     rdist_valid(0), comm_column(-1), work(nullptr), nmax_work(0), energy_local(0.0),
     vector_step(-1), setup_done(0)
 {

@@ -86,7 +86,7 @@ class FixCGMSFluid : public Fix {
   bigint natoms_known;      // atom count when the beads were last known to have a fluid state
 
   // compact per-bead copies of what the per-pair loops touch, so that a
-  // neighbour costs 8 or 16 bytes instead of a 112-byte row
+  // neighbour costs 8 or 16 bytes instead of a 64-byte row
   double *coef;     // pair coefficient (local and ghost beads)
   int nmax_bead;    // length of coef
   // geometry pass: neighbour count and sum of distances (2 per bead, local and
@@ -95,11 +95,11 @@ class FixCGMSFluid : public Fix {
   // the per-atom output array f_ID[1-14] (CGMS::Output columns), filled from
   // the state and the sums on the steps an output may read it (output_step)
   double **outputs;
-  int nmax_outputs;    // rows of outputs (and beads of sums)
-  int output_every;    // the keyword output: N, or 0 for auto (init)
+  int nmax_outputs;         // rows of outputs (and beads of sums)
+  int output_every;         // the keyword output: N, or 0 for auto (init)
   int init_output_every;    // peratom_freq set by init()
-  int passes_done;     // the geometry and fluid passes have run (sums valid)
-  double *rdist;    // distance per neighbour-list entry (see distances_for)
+  int passes_done;          // the geometry and fluid passes have run (sums valid)
+  double *rdist;            // distance per neighbour-list entry (see distances_for)
   bigint rdist_size;
   bigint rdist_builds;    // neighbor->ncalls when rdist was sized for the list
   int **rdist_list;       // firstneigh of the list rdist follows
