@@ -170,8 +170,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr), nmax_bead(0),
     sums(nullptr), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1),
     passes_done(0), rdist(nullptr), rdist_size(0), rdist_list(nullptr), rdist_valid(0),
-    comm_column(-1), work(nullptr), nmax_work(0), energy_local(0.0),
-    vector_step(-1), setup_done(0)
+    comm_column(-1), work(nullptr), nmax_work(0), energy_local(0.0), vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
