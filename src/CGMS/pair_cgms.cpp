@@ -326,9 +326,10 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
           if (scaled) cutsq = pair_cutsq(rad);
         }
         if (rsq >= cutsq) continue;
-        // one division per pair: everything else multiplies by 1/x^2 or 1/x
-        r2inv = 1.0 / rsq;
-        r1inv = sqrt(r2inv);
+        // as from the fix's distances, to the last bit: one square root and one
+        // division per pair, everything else multiplies by 1/x^2 or 1/x
+        r1inv = 1.0 / sqrt(rsq);
+        r2inv = r1inv * r1inv;
       }
 
       double fpair = 0.0;
