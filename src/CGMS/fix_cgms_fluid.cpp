@@ -1388,9 +1388,10 @@ void FixCGMSFluid::refresh_vector()
   const StepLimits limits(*pair, update->dt);
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   double out[NOUTPUTS];
+  const PairCGMS *now = current_pair();
   for (int i = 0; i < nlocal; i++) {
     const double *c = cg[i];
-    bead_outputs(i, out);
+    bead_outputs(i, out, now);
     local_max[0] = MAX(local_max[0], fabs(out[OUT_PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = out[OUT_NNEIGH];
     if (nn > 0.0) {
@@ -1460,9 +1461,13 @@ int FixCGMSFluid::output_step() const
    that holds the material is gone)
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::bead_outputs(int i, double *out) const
+const PairCGMS *FixCGMSFluid::current_pair() const
 {
-  const auto *pair = dynamic_cast<const PairCGMS *>(force->pair);
+  return dynamic_cast<const PairCGMS *>(force->pair);
+}
+
+void FixCGMSFluid::bead_outputs(int i, double *out, const PairCGMS *pair) const
+{
   const double *c = bead_array(lmp)[i];
   for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = c[k];
   out[OUT_COEF] = out[OUT_NNEIGH] = out[OUT_SIDE] = 0.0;
@@ -1489,7 +1494,8 @@ void FixCGMSFluid::bead_outputs(int i, double *out) const
 void FixCGMSFluid::fill_outputs()
 {
   const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) bead_outputs(i, outputs[i]);
+  const PairCGMS *now = current_pair();
+  for (int i = 0; i < nlocal; i++) bead_outputs(i, outputs[i], now);
 }
 
 void FixCGMSFluid::pack_output(int column, double *buf, int nvalues, int groupbit)
@@ -1497,9 +1503,10 @@ void FixCGMSFluid::pack_output(int column, double *buf, int nvalues, int groupbi
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   double out[NOUTPUTS];
+  const PairCGMS *now = current_pair();
   for (int i = 0, n = 0; i < nlocal; i++, n += nvalues) {
     if (mask[i] & groupbit) {
-      bead_outputs(i, out);
+      bead_outputs(i, out, now);
       buf[n] = out[column];
     } else {
       buf[n] = 0.0;

@@ -101,8 +101,8 @@ class FixCGMSFluid : public Fix {
   int passes_done;          // the geometry and fluid passes have run (sums valid)
   double *rdist;            // distance per neighbour-list entry (see distances_for)
   bigint rdist_size;
-  int **rdist_list;       // firstneigh of the list rdist follows
-  int rdist_valid;        // set by the geometry pass, cleared by the pair after use
+  int **rdist_list;    // firstneigh of the list rdist follows
+  int rdist_valid;     // set by the geometry pass, cleared by the pair after use
 
   int comm_column;    // row column sent by forward communication (-1: the pair coefficients)
   double *work;       // per-bead values of a keyword (dryness, diameter)
@@ -146,7 +146,9 @@ class FixCGMSFluid : public Fix {
   void refresh_vector();
   int output_frequency() const;
   int output_step() const;
-  void bead_outputs(int, double *) const;
+  // the pair style now (nullptr: not cgms), which the outputs take the material from
+  const class PairCGMS *current_pair() const;
+  void bead_outputs(int, double *, const class PairCGMS *) const;
   void fill_outputs();
 };
 
