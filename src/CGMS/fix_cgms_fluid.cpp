@@ -26,6 +26,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <numeric>
 
 using namespace LAMMPS_NS;
@@ -1008,7 +1009,7 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
 
     // the state row only (one cache line); the outputs (N, side, perimeter,
     // pressure, l_d, the coefficient) are derived from it and the sums when an
-    // output asks (bead_outputs)
+    // output asks (for_each_output)
     c[AREA] = area;
     c[RHO] = rho;
     c[DMDT] = dmdt;
@@ -1381,17 +1382,13 @@ void FixCGMSFluid::refresh_vector()
   double **cg = bead_array(lmp);
   double **v = atom->v;
   double *rmass = atom->rmass;
-  const int nlocal = atom->nlocal;
 
   // the explicit stability limits of the fluid pass (damping, turgor, cell shape),
   // from the neighbour sums of the last geometry pass; reduced as rates 1/dt^2
   const StepLimits limits(*pair, update->dt);
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
-  double out[NOUTPUTS];
-  const PairCGMS *now = current_pair();
-  for (int i = 0; i < nlocal; i++) {
+  for_each_output([&](int i, const double *out) {
     const double *c = cg[i];
-    bead_outputs(i, out, now);
     local_max[0] = MAX(local_max[0], fabs(out[OUT_PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = out[OUT_NNEIGH];
     if (nn > 0.0) {
@@ -1405,7 +1402,7 @@ void FixCGMSFluid::refresh_vector()
     local_sum[0] += c[MF];
     local_sum[1] += c[MF0];
     local_sum[2] += 0.5 * rmass[i] * v2;
-  }
+  });
   double global_max[3], global_sum[3];
   MPI_Allreduce(local_max, global_max, 3, MPI_DOUBLE, MPI_MAX, world);
   MPI_Allreduce(local_sum, global_sum, 3, MPI_DOUBLE, MPI_SUM, world);
@@ -1455,63 +1452,59 @@ int FixCGMSFluid::output_step() const
 }
 
 /* ----------------------------------------------------------------------
-   the outputs of local bead i (CGMS::Output columns): its state, and what the
-   fluid pass derived from the state and the neighbour sums, recomputed by the
-   same formulas; 0 where no pass has computed them yet (or the pair style
-   that holds the material is gone)
+   the outputs of every local bead i (CGMS::Output columns), handed to use(i,
+   outputs): its state, and what the fluid pass derived from the state and the
+   neighbour sums, recomputed by the same formulas; 0 where no pass has
+   computed them yet (or the pair style that holds the material is gone)
 ------------------------------------------------------------------------- */
 
-const PairCGMS *FixCGMSFluid::current_pair() const
+void FixCGMSFluid::for_each_output(const std::function<void(int, const double *)> &use) const
 {
-  return dynamic_cast<const PairCGMS *>(force->pair);
-}
-
-void FixCGMSFluid::bead_outputs(int i, double *out, const PairCGMS *pair) const
-{
-  const double *c = bead_array(lmp)[i];
-  for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = c[k];
-  out[OUT_COEF] = out[OUT_NNEIGH] = out[OUT_SIDE] = 0.0;
-  out[OUT_PRESS] = out[OUT_PERIM] = out[OUT_LDEQ] = 0.0;
-  if (!passes_done || !pair || !(c[MF0] > 0.0)) return;
-
-  const Material &mat = pair->material();
+  const auto *pair = dynamic_cast<const PairCGMS *>(force->pair);
+  double **cg = bead_array(lmp);
+  const int nlocal = atom->nlocal;
+  const int derived = passes_done && pair;
   DrynessLaws at;
-  at.set(c[DRYNESS], mat, pair->periphery);
-  const double nn = sums[2 * i];
-  const double b = cell_side(nn, sums[2 * i + 1], at.beta, mat.pectin, mat.b_ref);
-  const double perim = 6.0 * b;
-  const double press = at.pressure(at.q7(c[RHO]), mat.K);
-  const double ldeq = c[L0P] * at.ld_factor;
-  out[OUT_NNEIGH] = nn;
-  out[OUT_SIDE] = b;
-  out[OUT_PERIM] = perim;
-  out[OUT_PRESS] = press;
-  out[OUT_LDEQ] = ldeq;
-  out[OUT_COEF] = pair_coefficient(pair->turgor ? mat.k_T : 0.0, pair->perimeter ? mat.k_PA : 0.0,
-                                   mat.P_f, press, perim, ldeq);
+  double out[NOUTPUTS];
+  for (int i = 0; i < nlocal; i++) {
+    const double *c = cg[i];
+    for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = c[k];
+    out[OUT_COEF] = out[OUT_NNEIGH] = out[OUT_SIDE] = 0.0;
+    out[OUT_PRESS] = out[OUT_PERIM] = out[OUT_LDEQ] = 0.0;
+    if (derived && c[MF0] > 0.0) {
+      const Material &mat = pair->material();
+      if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, pair->periphery);
+      const double nn = sums[2 * i];
+      const double b = cell_side(nn, sums[2 * i + 1], at.beta, mat.pectin, mat.b_ref);
+      const double perim = 6.0 * b;
+      const double press = at.pressure(at.q7(c[RHO]), mat.K);
+      const double ldeq = c[L0P] * at.ld_factor;
+      out[OUT_NNEIGH] = nn;
+      out[OUT_SIDE] = b;
+      out[OUT_PERIM] = perim;
+      out[OUT_PRESS] = press;
+      out[OUT_LDEQ] = ldeq;
+      out[OUT_COEF] =
+          pair_coefficient(pair->turgor ? mat.k_T : 0.0, pair->perimeter ? mat.k_PA : 0.0, mat.P_f,
+                           press, perim, ldeq);
+    }
+    use(i, out);
+  }
 }
 
 void FixCGMSFluid::fill_outputs()
 {
-  const int nlocal = atom->nlocal;
-  const PairCGMS *now = current_pair();
-  for (int i = 0; i < nlocal; i++) bead_outputs(i, outputs[i], now);
+  for_each_output([this](int i, const double *out) {
+    for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = out[k];
+  });
 }
 
 void FixCGMSFluid::pack_output(int column, double *buf, int nvalues, int groupbit)
 {
   const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
-  double out[NOUTPUTS];
-  const PairCGMS *now = current_pair();
-  for (int i = 0, n = 0; i < nlocal; i++, n += nvalues) {
-    if (mask[i] & groupbit) {
-      bead_outputs(i, out, now);
-      buf[n] = out[column];
-    } else {
-      buf[n] = 0.0;
-    }
-  }
+  for_each_output([&](int i, const double *out) {
+    buf[i * nvalues] = (mask[i] & groupbit) ? out[column] : 0.0;
+  });
 }
 
 /* ----------------------------------------------------------------------

@@ -10,6 +10,8 @@
 
 #include "fix.h"
 
+#include <functional>
+
 namespace LAMMPS_NS {
 
 // The fluid phase of the CGMS model: each step the virtual-cell geometry
@@ -146,9 +148,7 @@ class FixCGMSFluid : public Fix {
   void refresh_vector();
   int output_frequency() const;
   int output_step() const;
-  // the pair style now (nullptr: not cgms), which the outputs take the material from
-  const class PairCGMS *current_pair() const;
-  void bead_outputs(int, double *, const class PairCGMS *) const;
+  void for_each_output(const std::function<void(int, const double *)> &) const;
   void fill_outputs();
 };
 
