@@ -40,9 +40,6 @@ static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
 // 1 / (sqrt(3) N) of eqn (10) for the neighbour counts that occur: a lookup
 // instead of a division per bead
 static constexpr int MAXCOUNT = 32;
-// the most neighbour-list entries whose distances the geometry pass keeps for the
-// pair (8 bytes each: 512 KiB, about 22 000 beads of a hexagonal tissue)
-static constexpr bigint MAX_CACHED_DISTANCES = 1 << 16;
 static const struct InverseCounts {
   double value[MAXCOUNT];
   InverseCounts()
@@ -821,12 +818,7 @@ void FixCGMSFluid::geometry_pass()
   // and a list that grows between runs would overrun rdist
   bigint npairs = 0;
   for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
-  // the distances are kept for the pair only while they stay in cache: on a large
-  // tissue writing them here and reading them back in the pair streams 0.8 cache
-  // lines per bead-step more than the pair's own square root costs (bench/README.md);
-  // the cell-shape energy reads them on the steps it is tallied
-  const int cache = npairs <= MAX_CACHED_DISTANCES || shape_energy_needed();
-  if (cache && npairs > rdist_size) {
+  if (npairs > rdist_size) {
     rdist_size = npairs + npairs / 4;
     memory->destroy(rdist);
     memory->create(rdist, rdist_size, "cgms/fluid:rdist");
@@ -865,11 +857,11 @@ void FixCGMSFluid::geometry_pass()
       const double rsq = delx * delx + dely * dely;
       if (rsq >= (per_pair_cutoff ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi))
                                   : cutsq_uniform)) {
-        if (cache) rdist[k++] = 0.0;
+        rdist[k++] = 0.0;
         continue;
       }
       const double r = sqrt(rsq);
-      if (cache) rdist[k++] = r;
+      rdist[k++] = r;
       n += 1.0;
       sum += r;
       if (newton_pair || j < nlocal) {
@@ -881,7 +873,7 @@ void FixCGMSFluid::geometry_pass()
     sums[2 * i + 1] += sum;
   }
   rdist_list = list->firstneigh;
-  rdist_valid = cache;
+  rdist_valid = 1;
   if (newton_pair) comm->reverse_comm(this);
 }
 
@@ -930,7 +922,7 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
   // this gives 970: the damping uses up part of the margin)
   const int shape_check = kS > 0.0 && !balance;
   // its energy is needed only where LAMMPS tallies energies (a second walk over the list)
-  const int shape_energy = shape_energy_needed();
+  const int shape_energy = kS > 0.0 && (balance || update->eflag_global == update->ntimestep);
   const StepLimits limits(*pair, dt);
   // found beads in locals (registers) during the loop, into trouble after it
   int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
@@ -1308,17 +1300,6 @@ void FixCGMSFluid::damping_limit_error(int i)
              "use a smaller timestep{}",
              update->dt, update->ntimestep, StepLimits(*pair, update->dt).damping(m, nn),
              atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
-}
-
-/* ----------------------------------------------------------------------
-   the cell-shape energy is needed only where LAMMPS tallies energies (a second
-   walk over the list, over the distances the geometry pass then keeps)
-------------------------------------------------------------------------- */
-
-int FixCGMSFluid::shape_energy_needed() const
-{
-  const int balance = always_balance || (minimize_balance && update->whichflag == 2);
-  return pair->material().k_S > 0.0 && (balance || update->eflag_global == update->ntimestep);
 }
 
 /* ---------------------------------------------------------------------- */

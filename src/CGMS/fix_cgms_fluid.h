@@ -119,7 +119,6 @@ class FixCGMSFluid : public Fix {
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
   const double *per_bead_values(int, double);
-  int shape_energy_needed() const;
   double shape_pair_energy(double) const;
   void apply_dryness();
   void refresh_ghost_dryness();

@@ -326,10 +326,9 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
           if (scaled) cutsq = pair_cutsq(rad);
         }
         if (rsq >= cutsq) continue;
-        // as from the fix's distances, to the last bit: one square root and one
-        // division per pair, everything else multiplies by 1/x^2 or 1/x
-        r1inv = 1.0 / sqrt(rsq);
-        r2inv = r1inv * r1inv;
+        // one division per pair: everything else multiplies by 1/x^2 or 1/x
+        r2inv = 1.0 / rsq;
+        r1inv = sqrt(r2inv);
       }
 
       double fpair = 0.0;
