@@ -122,8 +122,6 @@ int AtomVecCGMS::property_atom(const std::string &name)
   return -1;
 }
 
-/* ---------------------------------------------------------------------- */
-
 /* ----------------------------------------------------------------------
    index is a CGMS::Output column: the state columns come from the row, the
    others from fix cgms/fluid, which derives them now from the state and its
