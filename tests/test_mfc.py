@@ -246,7 +246,8 @@ def test_single_dried_cell_follows_its_fluid_and_wrinkles(tmp_path, s):
 
 def fast_then_sph(folder, s, steps):
     """The fast variant's steady state of one cell at level ``s``, then the SPH model
-    started there (the ring filled with fluid at rest, cgms.mfc_sph.write_state) and run
+    started there (the ring filled with fluid at rest at the fast variant's pressure,
+    cgms.mfc_sph.write_state) and run
     ``steps`` steps of 2 ns. Returns the fast walls, the SPH walls, the SPH fluid's
     pressures (Pa) and write_state's report."""
     from cgms import mfc_sph
@@ -255,10 +256,12 @@ def fast_then_sph(folder, s, steps):
         report = mfc_run.ramp(lmp, P, None, s, ftol=1e-11)
         fast = mfc_run.positions(lmp)
         colour = np.array(lmp.gather_atoms("type", 0, 1)) - 1
+        fast_pressure = lmp.numpy.extract_fix("mfc", 0, 2, 0, 1)
     finally:
         lmp.close()
     assert report["converged"], report
-    state = mfc_sph.write_state(folder / "sph.data", fast, colour, P, s, overwrite=True)
+    state = mfc_sph.write_state(folder / "sph.data", fast, colour, P, s, [fast_pressure],
+                                overwrite=True)
     lmp = run.open_lammps()
     try:
         lmp.commands_list(mfc_sph.setup_commands(folder / "sph.data", P))

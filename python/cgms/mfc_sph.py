@@ -50,7 +50,8 @@ def write_data(path, centres, p, overwrite=False):
     fresh tissue: walls as :func:`cgms.mfc_tissue.write_data`, then the fluid."""
     w = mfc_tissue.walls(centres, p)
     fluid = [mfc_tissue.fluid_points(c, p, w["angle"]) for c in np.asarray(centres, float)]
-    return _write(path, w["xy"], w["colour"], fluid, p, tait(p, 1.0)[0], fluid_mass(p),
+    rho = np.full(len(fluid), tait(p, 1.0)[0])
+    return _write(path, w["xy"], w["colour"], fluid, p, rho, fluid_mass(p),
                   p["wall_mass"], f"MFC tissue (SPH): {len(centres)} cells", overwrite)
 
 
@@ -70,27 +71,31 @@ def fill(ring, p, s):
     return pts[tissue._boundary_distance(pts, ring) >= p["fluid_margin"]]
 
 
-def write_state(path, walls, colour, p, s, overwrite=False):
+def write_state(path, walls, colour, p, s, pressure=None, overwrite=False):
     """Data file of a steady state of the fast variant at level ``s`` (wall positions
     ``walls`` by atom ID, cell colours ``colour`` 0-2 per wall particle) with every cell
-    filled by :func:`fill`: fluid at rest (the density of zero pressure of level s, near
-    the fast variant's suction of about -1 kPa), each particle of mass rho H (its lattice
-    cell), walls of the level's mass. Returns the counts and the fluid area per cell
-    (sum of the particles' areas m/rho)."""
+    filled by :func:`fill`: fluid at rest at the cell's ``pressure`` (Pa, per cell, e.g.
+    ``fix mfc/pressure``'s; default 0) through the EOS of level s, each particle of the
+    mass of its lattice cell at the level's rest density, walls of the level's mass.
+    Returns the counts, the fluid particle mass and the fluid area per cell (its lattice
+    cells)."""
     walls = np.asarray(walls, float)
     rings = walls.reshape(-1, p["n_wall"], 2)
     fluid = [fill(ring, p, s) for ring in rings]
-    rho = tait(p, s)[0]
-    mass = rho * p["fluid_spacing"] ** 2 * s
+    rho_r, c0 = tait(p, s)
+    pressure = np.zeros(len(rings)) if pressure is None else np.asarray(pressure, float)
+    # LAMMPS's Tait EOS, p H = B [(rho/rho_r)^7 - 1], B = c0^2 rho_r / 7, solved for rho
+    rho = rho_r * (1 + pressure * p["height"] / (c0 * c0 * rho_r / 7)) ** (1 / 7)
+    mass = rho_r * p["fluid_spacing"] ** 2 * s
     out = _write(path, walls, np.asarray(colour, int), fluid, p, rho, mass,
                  level(p, s)["wall_mass"], f"MFC tissue (SPH) at s = {s:g}", overwrite)
-    out.update(fluid_mass=mass, fluid_area=np.array([len(f) for f in fluid]) * mass / rho)
+    out.update(fluid_mass=mass, fluid_area=np.array([len(f) for f in fluid]) * mass / rho_r)
     return out
 
 
 def _write(path, walls, colour, fluid, p, rho, fluid_mass_, wall_mass, title, overwrite):
     """The data file of walls (``n_cells * n_wall``, consecutive IDs per cell ring) and
-    their cells' fluid points, all at density ``rho``."""
+    their cells' fluid points; ``rho`` per cell (its walls and fluid)."""
     nf = [len(f) for f in fluid]
     col = colour[:: p["n_wall"]]
     xy = np.concatenate([walls] + list(fluid))
@@ -111,7 +116,7 @@ def _write(path, walls, colour, fluid, p, rho, fluid_mass_, wall_mass, title, ov
     lines += [f"{t} {wall_mass:.10e}" for t in (1, 2, 3)]
     lines += [f"{t} {fluid_mass_:.10e}" for t in (4, 5, 6)]
     lines += ["", "Atoms # hybrid", ""]
-    lines += [f"{i + 1} {t} {x:.12e} {y:.12e} 0.0 {rho:.10e} 0.0 1.0 {m}"
+    lines += [f"{i + 1} {t} {x:.12e} {y:.12e} 0.0 {rho[m - 1]:.10e} 0.0 1.0 {m}"
               for i, (t, m, (x, y)) in enumerate(zip(types, mols, xy))]
     lines += ["", "Bonds", ""] + [f"{i} 1 {i} {j}" for i, j in zip(ids, nxt)]
     lines += ["", "Angles", ""] + [f"{i} 1 {a} {i} {b}" for i, a, b in zip(ids, prv, nxt)]
