@@ -244,6 +244,33 @@ def test_single_dried_cell_follows_its_fluid_and_wrinkles(tmp_path, s):
         assert cell["roundness"][0] < 0.7
 
 
+def test_remaining_drift_of_a_geometric_series():
+    # c_k = 2 x 0.8^k: what is still to come after k = 9 is 2 x 0.8^10 / (1 - 0.8)
+    changes = 2 * 0.8 ** np.arange(10)
+    ratio, rest = mfc_run.remaining(changes)
+    assert ratio == pytest.approx(0.8, rel=1e-12)
+    assert rest == pytest.approx(10 * 0.8 ** 10, rel=1e-10)
+    assert mfc_run.remaining([1.0, 1.1, 1.2])[1] == math.inf      # not decaying
+    assert math.isnan(mfc_run.remaining([1.0, 0.5])[1])           # too few chunks
+
+
+@pytest.mark.lammps
+def test_a_level_that_does_not_converge_reports_its_remaining_drift(tmp_path):
+    lmp = open_cells(tmp_path, [[0.0, 0.0]])
+    try:
+        mfc_run.relax(lmp, P, 1.0, ftol=1e-10)
+        lmp.command("displace_atoms all random 1e-7 1e-7 0 5 units box")
+        report = mfc_run.relax(lmp, P, 0.6, chunk=100, max_iterations=400, ftol=1e-30, shift=0)
+    finally:
+        lmp.close()
+    assert not report["converged"] and len(report["mean_shifts"]) == 4
+    ratio, rest = mfc_run.remaining(report["mean_shifts"])
+    assert report["shift_ratio"] == ratio
+    # a finite remainder, or None (not inf or nan) when the shifts do not decay
+    assert report["remaining_shift"] == (rest if math.isfinite(rest) else None)
+    assert report["shift"] >= report["mean_shifts"][-1] > 0
+
+
 def fast_then_sph(folder, s, steps):
     """The fast variant's steady state of one cell at level ``s``, then the SPH model
     started there (the ring filled with fluid at rest at the fast variant's pressure,

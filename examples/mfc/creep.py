@@ -29,14 +29,6 @@ def measures(xy):
     return np.array([m["area"], m["perimeter"], m["elongation"]])
 
 
-def geometric(changes):
-    """Per-chunk ratio r of a geometric fit to |changes| and the remaining sum it gives."""
-    k = np.arange(len(changes))
-    c = np.polyfit(k, np.log(np.abs(changes) + 1e-300), 1)
-    r, last = np.exp(c[0]), np.exp(np.polyval(c, k[-1]))
-    return r, (last * r / (1 - r) if r < 1 else np.inf)
-
-
 def main(folder, s, chunks=12):
     p = mfc_model.parameters()
     rest = np.loadtxt(f"{folder}/lamella.txt", ndmin=2).reshape(-1, 2)[:, 1]
@@ -84,7 +76,7 @@ def main(folder, s, chunks=12):
     for name, changes in (("A/A0", np.diff(rows[:, 0])), ("P/P0", np.diff(rows[:, 1])),
                           ("EL/EL0", np.diff(rows[:, 2])), ("energy (J)", np.diff(energy)),
                           ("mean centroid shift (m)", rows[1:, 4])):
-        ratio, remaining = geometric(changes)
+        ratio, remaining = mfc_run.remaining(changes, last=len(changes))
         print(f"{name}: per-chunk change shrinks by {ratio:.3f} a chunk; extrapolated "
               f"remaining change {remaining:.3g}")
 
