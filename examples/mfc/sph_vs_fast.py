@@ -99,7 +99,8 @@ def main():
         t = time.perf_counter()
         report = mfc_run.ramp(fast, p, previous, s, ftol=1e-11)
         pressure = np.array([fast.numpy.extract_fix("mfc", 0, 2, c, 1) for c in range(ncell)])
-        results[s] = (mfc_run.positions(fast), time.perf_counter() - t, report["converged"], pressure)
+        results[s] = (mfc_run.positions(fast), time.perf_counter() - t, report["converged"],
+                      pressure)
         previous = s
     colour = np.array(fast.gather_atoms("type", 0, 1)) - 1
     fast.close()
