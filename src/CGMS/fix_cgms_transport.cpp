@@ -20,13 +20,17 @@
 #include "neigh_request.h"
 #include "neighbor.h"
 #include "pair.h"
+#include "math_const.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
+using MathConst::MY_PI;
 
 namespace {
 constexpr double R_GAS = 8.314462618;    // J/(mol K)
@@ -35,7 +39,16 @@ constexpr double M_AIR = 0.028965;       // kg/mol
 constexpr double KELVIN = 273.15;
 constexpr double P_ATM = 101325.0;    // Pa
 constexpr int NVECTOR = 14;
-enum { MODE_STATE, MODE_DIRECTION };
+enum { MODE_STATE, MODE_DIRECTION, MODE_SHIFT };
+
+// a bead whose widest angular gap between neighbours exceeds this is on the outline:
+// on a hexagonal lattice an interior bead's gaps are 60 deg, a concave corner's open
+// gap 120, a straight edge's 180, a convex corner's 240; 100 deg lies between 60 and
+// 120 with 40 deg to spare for the shear of a shrunken tissue on the side of the many
+// interior gaps (python/cgms/transport.py OPEN_GAP)
+constexpr double OPEN_GAP = 100.0 * MY_PI / 180.0;
+// passes of the [1, 2, 1] / 4 smoothing along the outline: a Gaussian of 2 beads
+constexpr int OUTLINE_PASSES = 8;
 
 // the functions of python/cgms/transport.py, one to one (their docstrings cite the sources)
 double saturation_pressure(double t)
@@ -87,7 +100,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr), dn(nullptr),
     pn(nullptr), diag(nullptr), lower(nullptr), piv(nullptr), mul(nullptr), c1(nullptr),
     c0(nullptr), c1f(nullptr), c0f(nullptr), bn(nullptr), rn(nullptr), zn(nullptr), qn(nullptr),
-    xnew(nullptr), comm_vec(nullptr)
+    xnew(nullptr), comm_vec(nullptr), along(nullptr), shift(nullptr), shift_new(nullptr)
 {
   if (narg < 4)
     error->all(FLERR,
@@ -285,6 +298,9 @@ FixCGMSTransport::~FixCGMSTransport()
   for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &pn, &diag, &lower, &piv,
                      &mul,   &c1, &c0,   &c1f,     &c0f,  &bn, &rn, &zn, &qn,   &xnew})
     memory->destroy(*p);
+  memory->destroy(shift);
+  memory->destroy(shift_new);
+  memory->destroy(along);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -504,16 +520,17 @@ void FixCGMSTransport::grow_beads()
     memory->grow(*p, (bigint) nmax_bead * layers, "cgms/transport:node");
   for (double **p : {&lower, &mul})
     memory->grow(*p, (bigint) nmax_bead * MAX(layers - 1, 1), "cgms/transport:column");
+  memory->grow(shift, nmax_bead, 2, "cgms/transport:shift");
+  memory->grow(shift_new, nmax_bead, 2, "cgms/transport:shift");
+  memory->grow(along, nmax_bead, 2, "cgms/transport:along");
 }
 
 /* ----------------------------------------------------------------------
    the in-plane finite-volume geometry from the current positions
    (python/cgms/transport.py bead_geometry): neighbours within the cutoff,
-   a = mean neighbour distance, area (sqrt 3 / 2) a^2. The outline is a local
-   stand-in for the outline polygon of the Python side: a bead with N < 6
-   neighbours exposes (6 - N) a / 2 of outline (exact on a straight row of a
-   hexagonal lattice). Then each column's thickness, solid density and layer
-   depth, sent with the moisture to the ghost beads.
+   a = mean neighbour distance, area (sqrt 3 / 2) a^2; the outline (below).
+   Then each column's thickness, solid density and layer depth, sent with the
+   moisture to the ghost beads.
 ------------------------------------------------------------------------- */
 
 void FixCGMSTransport::geometry()
@@ -527,8 +544,10 @@ void FixCGMSTransport::geometry()
   pair_j.clear();
   pair_dist.clear();
   tagint lonely = MAXTAGINT;
+  std::vector<std::pair<double, int>> around;
   for (int i = 0; i < nlocal; i++) {
     pair_start[i] = (int) pair_j.size();
+    around.clear();
     const int *jlist = list->firstneigh[i];
     const int jnum = list->numneigh[i];
     double sum = 0.0;
@@ -540,6 +559,7 @@ void FixCGMSTransport::geometry()
       const double r = sqrt(rsq);
       pair_j.push_back(j);
       pair_dist.push_back(r);
+      around.emplace_back(atan2(-dy, -dx), j);
       sum += r;
     }
     const int count = (int) pair_j.size() - pair_start[i];
@@ -550,7 +570,21 @@ void FixCGMSTransport::geometry()
     }
     spacing[i] = sum / count;
     area[i] = 0.5 * sqrt(3.0) * spacing[i] * spacing[i];
-    edge[i] = (outline && count < 6) ? 0.5 * (6 - count) * spacing[i] : 0.0;
+    // the widest gap between neighbours sorted by angle (the first of equal ones)
+    std::sort(around.begin(), around.end());
+    double widest = -1.0;
+    for (int k = 0; k < count; k++) {
+      const int next = (k + 1) % count;
+      const double gap = around[next].first - around[k].first + (next == 0 ? 2.0 * MY_PI : 0.0);
+      if (gap > widest) {
+        widest = gap;
+        // counter-clockwise along the outline (air on the right): the neighbour where the
+        // open gap starts comes before the bead, the one where it ends after it
+        along[i][0] = around[k].second;
+        along[i][1] = around[next].second;
+      }
+    }
+    if (!outline || widest <= OPEN_GAP) along[i][0] = along[i][1] = -1;
   }
   pair_start[nlocal] = (int) pair_j.size();
   tagint first;
@@ -572,6 +606,8 @@ void FixCGMSTransport::geometry()
                "restart file",
                first);
 
+  outline_edges();
+
   for (int i = 0; i < nlocal; i++) {
     const double s = store[i][layers];
     const double thick = shrink ? store[i][layers + 2] * sqrt(area[i] / store[i][layers + 1])
@@ -583,6 +619,58 @@ void FixCGMSTransport::geometry()
   }
   comm_mode = MODE_STATE;
   comm->forward_comm(this, layers + 2);
+}
+
+/* ----------------------------------------------------------------------
+   the length of outline each local bead exposes to air (edge), found from its
+   own neighbours (python/cgms/transport.py outline_edge, one to one): the two
+   neighbours bounding a bead's open gap (along) are its neighbours along the
+   outline polygon; that polygon smoothed OUTLINE_PASSES times, each vertex to
+   (prev + 2 self + next) / 4 (a lattice outline is a staircase 10 % longer
+   than the curve it follows), a bead's share half of its two edges, offset
+   outwards by a/2 times the turning angle (pi a over a closed outline). The
+   smoothing shifts go to the ghosts after every pass (periodic images keep
+   their own coordinates).
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::outline_edges()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  double **x = atom->x;
+  for (int i = 0; i < nall; i++) shift[i][0] = shift[i][1] = 0.0;
+  for (int pass = 0; pass < OUTLINE_PASSES; pass++) {
+    for (int i = 0; i < nlocal; i++) {
+      shift_new[i][0] = shift_new[i][1] = 0.0;
+      if (along[i][0] < 0) continue;
+      const int a = along[i][0], b = along[i][1];
+      for (int d = 0; d < 2; d++)
+        shift_new[i][d] = 0.25 * (x[a][d] + shift[a][d] + 2.0 * (x[i][d] + shift[i][d]) + x[b][d] +
+                                  shift[b][d]) -
+            x[i][d];
+    }
+    for (int i = 0; i < nlocal; i++) {
+      shift[i][0] = shift_new[i][0];
+      shift[i][1] = shift_new[i][1];
+    }
+    comm_mode = MODE_SHIFT;
+    comm->forward_comm(this, 2);
+  }
+  for (int i = 0; i < nlocal; i++) {
+    edge[i] = 0.0;
+    if (along[i][0] < 0) continue;
+    const int a = along[i][0], b = along[i][1];
+    double back[2], ahead[2];
+    for (int d = 0; d < 2; d++) {
+      back[d] = x[i][d] + shift[i][d] - x[a][d] - shift[a][d];
+      ahead[d] = x[b][d] + shift[b][d] - x[i][d] - shift[i][d];
+    }
+    const double turn = atan2(back[0] * ahead[1] - back[1] * ahead[0],
+                              back[0] * ahead[0] + back[1] * ahead[1]);
+    edge[i] = 0.5 * (sqrt(back[0] * back[0] + back[1] * back[1]) +
+                     sqrt(ahead[0] * ahead[0] + ahead[1] * ahead[1])) +
+        0.5 * spacing[i] * turn;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -882,6 +970,9 @@ int FixCGMSTransport::pack_forward_comm(int n, int *list_send, double *buf, int,
       buf[m++] = rho_s[j];
       buf[m++] = dz[j];
       for (int l = 0; l < layers; l++) buf[m++] = xn[j * layers + l];
+    } else if (comm_mode == MODE_SHIFT) {
+      buf[m++] = shift[j][0];
+      buf[m++] = shift[j][1];
     } else
       for (int l = 0; l < layers; l++) buf[m++] = comm_vec[j * layers + l];
   }
@@ -896,6 +987,9 @@ void FixCGMSTransport::unpack_forward_comm(int n, int first, double *buf)
       rho_s[i] = buf[m++];
       dz[i] = buf[m++];
       for (int l = 0; l < layers; l++) xn[i * layers + l] = buf[m++];
+    } else if (comm_mode == MODE_SHIFT) {
+      shift[i][0] = buf[m++];
+      shift[i][1] = buf[m++];
     } else
       for (int l = 0; l < layers; l++) comm_vec[i * layers + l] = buf[m++];
   }

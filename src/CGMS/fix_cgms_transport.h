@@ -87,6 +87,8 @@ class FixCGMSTransport : public Fix {
   double *xn, *dn, *pn;    // node moisture, diffusivity, CG direction (layers per bead)
   double *diag, *lower, *piv, *mul, *c1, *c0, *c1f, *c0f, *bn, *rn, *zn, *qn, *xnew;
   double *comm_vec;                       // the node array MODE_DIRECTION sends
+  int **along;                            // an outline bead's neighbours before and after it
+  double **shift, **shift_new;            // the smoothing of the outline polygon
   std::vector<int> pair_start, pair_j;    // in-plane neighbours of each local bead
   std::vector<double> pair_dist;          // their centre distance
   std::vector<double> pair_g;             // their conductance per layer
@@ -99,6 +101,7 @@ class FixCGMSTransport : public Fix {
   void initialise_columns();
   void grow_beads();
   void geometry();
+  void outline_edges();
   double diffusivity(double, double) const;
   void surface_law(double, double, double, double &, double &) const;
   double product_temperature();
