@@ -230,7 +230,7 @@ def disc_error(folder, spacing, biot=2.0, fourier=0.2, steps=300):
 def test_disc_matches_crank(tmp_path):
     """Frozen mechanics, constant D, water out through the outline only (the outline the
     fix constructs from each bead's neighbours): X/X0(t) follows Crank's series for the
-    disc within 1 %, and the error falls as the beads get smaller (367, 823 and 3259
+    disc within 1 % at every size, and the error falls as the beads get smaller (367, 823 and 3259
     beads; measured 7.7e-3, 2.3e-3, 7.5e-4)."""
     errors = []
     for spacing in (1.5e-4, 1e-4, 0.5e-4):
@@ -239,7 +239,7 @@ def test_disc_matches_crank(tmp_path):
         error, last = disc_error(folder, spacing)
         assert last < 0.6                             # Crank: 0.573 at Fo = 0.2, Bi = 2
         errors.append(error)
-    assert errors[-1] < 0.01 and errors[0] > errors[1] > errors[2]
+    assert max(errors) < 0.01 and errors[0] > errors[1] > errors[2]
 
 
 @slow
