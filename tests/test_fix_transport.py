@@ -155,6 +155,9 @@ def test_matches_python_oracle(tmp_path, name):
     assert abs(last[6] - out_edge) <= 1e-10 * w0
     assert last[3] < 0.85                                      # it dried
     assert abs(last[7]) < 1e-10                                # water balance
+    # the drying rate: the X/X0 lost in the last step over its length (h)
+    prev = rows[-2]
+    assert abs(last[4] - (prev[3] - last[3]) / (last[2] - prev[2])) < 1e-9 * last[4]
 
 
 def test_product_temperature_matches_python(tmp_path):
