@@ -201,13 +201,15 @@ def outline_edge(xy, pairs, spacing, passes=OUTLINE_PASSES, offset=True):
     p = xy + shift
     back = p[ring] - p[prev[ring]]
     ahead = p[nxt[ring]] - p[ring]
-    turn = np.arctan2(back[:, 0] * ahead[:, 1] - back[:, 1] * ahead[:, 0],
-                      np.sum(back * ahead, axis=1))
+    cross = back[:, 0] * ahead[:, 1] - back[:, 1] * ahead[:, 0]
+    dot = np.sum(back * ahead, axis=1)
+    # the tip of a one-bead chain turns back: +pi (the outline goes round it)
+    turn = np.where((cross == 0) & (dot < 0), np.pi, np.arctan2(cross, dot))
     edge = np.zeros(n)
     edge[ring] = 0.5 * (np.hypot(*back.T) + np.hypot(*ahead.T))
     if offset:
         edge[ring] += 0.5 * np.asarray(spacing)[ring] * turn
-    return edge
+    return np.maximum(edge, 0.0)     # a sharp concave corner cannot take in air
 
 
 def bead_geometry(xy, cutoff):

@@ -674,12 +674,16 @@ void FixCGMSTransport::outline_edges()
       back[d] = x[i][d] + shift[i][d] - x[a][d] - shift[a][d];
       ahead[d] = x[b][d] + shift[b][d] - x[i][d] - shift[i][d];
     }
-    const double turn =
-        atan2(back[0] * ahead[1] - back[1] * ahead[0], back[0] * ahead[0] + back[1] * ahead[1]);
+    const double cross = back[0] * ahead[1] - back[1] * ahead[0];
+    const double dot = back[0] * ahead[0] + back[1] * ahead[1];
+    // the tip of a one-bead chain turns back: +pi (the outline goes round it)
+    const double turn = (cross == 0.0 && dot < 0.0) ? MY_PI : atan2(cross, dot);
     edge[i] = 0.5 *
             (sqrt(back[0] * back[0] + back[1] * back[1]) +
              sqrt(ahead[0] * ahead[0] + ahead[1] * ahead[1])) +
         0.5 * spacing[i] * turn;
+    // a sharp concave corner cannot take in air
+    edge[i] = MAX(edge[i], 0.0);
   }
 }
 
