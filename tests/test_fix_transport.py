@@ -148,7 +148,7 @@ def test_matches_python_oracle(tmp_path, name):
     x, _, out_face, out_edge, w0 = oracle(xy, 25, 10.0, 3, adapt=(0.02, 300.0), **case)
     x0 = read_params()["X0"]
     assert np.abs(nodes(dump) - x / x0).max() < 1e-10
-    assert np.ptp(x / x0) > 0.5                                # a real moisture field
+    assert np.ptp(x / x0) > 0.3                                # a real moisture field
     last = rows[-1]
     assert last[0] == 25 and last[14] == 25                   # 25 moisture steps
     assert abs(last[5] - out_face) <= 1e-10 * w0
