@@ -13,7 +13,7 @@ conditions and for a 2 mm slice at 70 C, 1.5 m/s, with the fitted parameters.
 
 Transport only (shape frozen, a window of a large slice: both faces in air, no outline),
 on a 16-bead patch (the field is uniform in plane), 20 layers across the half thickness.
-A minute or two on one core:
+A few minutes on one core:
 
     /usr/bin/python3 examples/drying/fit_diffusivity.py
 """
