@@ -340,7 +340,7 @@ def test_fallback_is_recorded_marked_and_read_back(fake, capsys, monkeypatch):
     monkeypatch.setattr(study, "relax", fire_stops_when_dry)
     base = ["study", *SMALL, "--dryness", "1,0.3", "--out", "d"]
     status, err, _ = run_cli(capsys, *base)
-    assert status == 1 and FIRE_STOP in err      # without the option: LAMMPS's stop
+    assert status == 1 and FIRE_STOP in err and "--fallback dynamics retries" in err
     status, err, out = run_cli(capsys, *base[:-1], "e", "--fallback", "dynamics")
     assert status == 0, err
     rows = {line.split()[2]: line.split()[8:] for line in out.splitlines()

@@ -138,11 +138,18 @@ def dry(out, name, t, mat_file, mat, levels, args):
     data = write_tissue(folder, t, mat)
     n = len(t["xy"])
     print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
-    results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
-                          fallback=args.fallback, diameters=t["diameters"] is not None,
-                          method=args.method, overrides=args.set,
-                          steady=dict(residual=args.residual, speed=args.speed,
-                                      max_steps=args.max_steps))
+    try:
+        results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
+                              fallback=args.fallback, diameters=t["diameters"] is not None,
+                              method=args.method, overrides=args.set,
+                              steady=dict(residual=args.residual, speed=args.speed,
+                                          max_steps=args.max_steps))
+    except study.LammpsError as err:
+        if args.fallback or args.method == "dynamics":
+            raise
+        raise study.LammpsError(err.dryness, f"{err.reason} (--fallback dynamics retries a "
+                                "level the quasi-static solve stops with the dynamics)",
+                                err.log) from err
     rows = study.table(results)
     for r in rows:
         r["tissue"] = name
