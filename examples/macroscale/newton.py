@@ -32,6 +32,8 @@ def main():
     p.add_argument("--level", type=float, required=True, help="dryness s")
     p.add_argument("--out", required=True, help="folder (kept: tissue, logs, dumps)")
     p.add_argument("--set", default="", help="material overrides, 'name value ...'")
+    p.add_argument("--max-iterations", type=int, default=60,
+                   help="Newton iterations at most (default 60, as cgms study)")
     args = p.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -44,11 +46,13 @@ def main():
     folder = out / f"{name}{'-' + args.set.replace(' ', '_') if args.set else ''}"
     cpu, wall = time.process_time(), time.perf_counter()
     r = study.relax(data, material.find(args.material), args.level, folder,
-                    method="newton", overrides=args.set)
+                    method="newton", overrides=args.set,
+                    steady=dict(max_steps=args.max_iterations))
     cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
     shape = morphology.measures(r["xy"])
     bows = morphology.side_bow(r["xy"], BAND * mat["x_ref"])
     row = dict(material=name, set=args.set, s=args.level, beads=len(r["xy"]),
+               max_iterations=args.max_iterations,
                wall=wall, cpu=cpu, iterations=r["steps"], converged=r["converged"],
                fmax=r["fmax"], moisture=r["moisture"], area=shape["area"],
                perimeter=shape["perimeter"], elongation=shape["elongation"],
