@@ -34,6 +34,10 @@ def main():
     p.add_argument("--set", default="", help="material overrides, 'name value ...'")
     p.add_argument("--max-iterations", type=int, default=60,
                    help="Newton iterations at most (default 60, as cgms study)")
+    p.add_argument("--start", metavar="DUMP",
+                   help="start from the positions of a dump of an earlier run (its last "
+                        "frame; the per-bead reference state is the material's, so this "
+                        "continues that run); default: the built lattice")
     args = p.parse_args()
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -44,6 +48,12 @@ def main():
         tissue.write_data(data, xy, 3 * mat["x_ref"])
     name = Path(material.find(args.material)).stem
     folder = out / f"{name}{'-' + args.set.replace(' ', '_') if args.set else ''}"
+    if args.start:
+        frame = morphology.read_dump(args.start)[-1]
+        data = out / f"start-{Path(args.start).name}.data"
+        tissue.write_data(data, frame["xy"], 3 * mat["x_ref"], ids=frame["ids"],
+                          overwrite=True)
+        folder = folder.with_name(folder.name + "-continued")
     cpu, wall = time.process_time(), time.perf_counter()
     r = study.relax(data, material.find(args.material), args.level, folder,
                     method="newton", overrides=args.set,
@@ -52,7 +62,7 @@ def main():
     shape = morphology.measures(r["xy"])
     bows = morphology.side_bow(r["xy"], BAND * mat["x_ref"])
     row = dict(material=name, set=args.set, s=args.level, beads=len(r["xy"]),
-               max_iterations=args.max_iterations,
+               max_iterations=args.max_iterations, start=args.start,
                wall=wall, cpu=cpu, iterations=r["steps"], converged=r["converged"],
                fmax=r["fmax"], moisture=r["moisture"], area=shape["area"],
                perimeter=shape["perimeter"], elongation=shape["elongation"],
