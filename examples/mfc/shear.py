@@ -7,12 +7,14 @@ k_S, and the k_S whose shear modulus matches the MFC's.
 
     /usr/bin/python3 examples/mfc/shear.py OUT [--blocks 8x5,12x7] [--levels 1,0.8]
         [--materials apple-mfc,apple] [--k-s 0,0.5,1,2,4] [--mfc-only | --cgms-only]
+    /usr/bin/python3 examples/mfc/shear.py OUT --effects [--materials ...] [--k-s ...]
 
 One JSON per run in OUT (``mfc-<block>-s<s>.json``, ``cgms-<material>-<block>-s<s>-kS<k>.json``);
 a run whose JSON exists is read back, not run again, so an interrupted study resumes.
 Prints Markdown tables: per block and level the MFC's moduli and, per material, CGMS's
 modulus without k_S, its mean slope in k_S, and the matching k_S (clamped and interior
-measures).
+measures). ``--effects``: the hard cases of tests/test_hard_cases.py (a sharp moisture step,
+cells of cv = 0.05) per material and k_S, instead.
 """
 
 import argparse
@@ -67,6 +69,103 @@ def matching_k_S(ks, values, target):
     return k, float((values[-1] - values[0]) / (ks[-1] - ks[0])), float(values[0])
 
 
+#: the hard cases of tests/test_hard_cases.py that the paper's forces collapse on: the
+#: symmetric 86-bead tissue with a sharp moisture step (wet left half | dry right half), and
+#: with cell diameters of cv = 0.05 (seed 1) at one level; damped dynamics to the steady
+#: state (residual and speed below 1e-3, checked every 1000 steps), 0.03 s at most
+CASE = """units si
+dimension 2
+boundary f f p
+atom_style cgms
+atom_modify map array sort 0 0
+comm_modify vel yes
+fix diam all property/atom d_diameter
+read_data {data} fix diam NULL Diameters
+variable d atom d_diameter
+neighbor 1.5e-5 bin
+neigh_modify every 1 delay 0 check yes
+variable xc equal 0.5*(bound(all,xmin)+bound(all,xmax))
+variable s atom ternary(x<v_xc,1.0,{dry})
+pair_style cgms
+pair_coeff * * {material} k_S {k_S!r}
+fix fluid all cgms/fluid dryness {dryness} diameter v_d
+fix nve all nve
+fix 2d all enforce2d
+timestep {dt!r}
+compute cell all property/atom nneigh area
+compute nmax all reduce max c_cell[1]
+variable steady equal (f_fluid[1]<1e-3)&&(f_fluid[3]<1e-3)
+fix halt all halt 1000 v_steady > 0.5 error continue
+thermo_style custom step f_fluid[1] f_fluid[2] f_fluid[3] c_nmax
+thermo 10000
+run {steps}
+"""
+
+
+def hard_case(folder, material_path, k_S, case, dry):
+    """Run one hard case (``case`` "step": s = 1 | ``dry``; "cv": cv = 0.05 at s = ``dry``)
+    with ``k_S``; returns whether it reached its steady state, the steps, the largest
+    neighbour count, X/X0, the dry / wet (or small / large) cell area ratio and LAMMPS's
+    message if it stopped."""
+    from cgms import model, positions, run, tissue
+    folder.mkdir(parents=True, exist_ok=True)
+    mat = material.read(material_path)
+    xy = tissue.hex_rectangle(10, 9, mat["x_ref"], short_rows=True)
+    xy = xy - 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+    d = (tissue.cell_diameters(len(xy), mat["diameter"], 0.05, seed=1) if case == "cv"
+         else np.full(len(xy), mat["diameter"]))
+    data = folder / "tissue.data"
+    positions.write_data(data, xy, 5 * mat["x_ref"], diameters=d, overwrite=True)
+    # 0.9 of the damping's time-step limit of the smallest cell (tests/test_hard_cases.py)
+    limit = float(model.damping_dt_limit(model.fresh_mass(mat), 6, mat["k_d"]))
+    dt = min(1e-7, 0.9 * limit * (d.min() / mat["diameter"]) ** 2)
+    steps = int(0.03 / dt)
+    script = CASE.format(data=data.resolve(), material=Path(material_path).resolve(), k_S=k_S,
+                         dry=dry, dryness="v_s" if case == "step" else dry, dt=dt,
+                         steps=steps)
+    lmp = run.open_lammps(log=folder / "log.lammps")
+    out = dict(case=case, dry=dry, k_S=k_S, material=Path(material_path).stem)
+    try:
+        lmp.commands_string(script)
+        nlocal = lmp.extract_global("nlocal")
+        state = run.steady_state(lmp)
+        cell = lmp.numpy.extract_compute("cell", 1, 2)[:nlocal]
+        ids = np.array(lmp.numpy.extract_atom("id")[:nlocal])
+        area = np.asarray(cell[np.argsort(ids), 1])
+        x = state["xy"][:, 0]
+        small = x >= 0.5 * (x.min() + x.max()) if case == "step" else d < np.median(d)
+        out.update(steady=bool(state["steps"] < steps), steps=int(state["steps"]),
+                   nmax=float(lmp.extract_compute("nmax", 0, 0)), moisture=state["moisture"],
+                   area_ratio=float(area[small].mean() / area[~small].mean()))
+    except Exception as err:
+        out.update(steady=False, error=str(err).splitlines()[0][:300])
+    finally:
+        lmp.close()
+    return out
+
+
+def effects(out, materials, ks):
+    """The hard cases with each material and k_S (Markdown table)."""
+    print("| material | case | k_S (N/m) | outcome | steps | most neighbours | X/X0 | "
+          "cell area dry/wet or small/large |")
+    print("|---|---|---|---|---|---|---|---|")
+    for mat in materials:
+        path = material.find(mat)
+        # apple-mfc.cgms holds for 0.6 <= s <= 1 only (its header)
+        cases = [("step", 0.2), ("cv", 0.4)] if mat == "apple" else [("step", 0.6), ("cv", 0.6)]
+        for case, dry in cases:
+            for k in ks:
+                tag = f"case-{mat}-{case}{dry:g}-kS{k:g}"
+                r = once(out / f"{tag}.json", lambda: hard_case(out / tag, path, k, case, dry))
+                outcome = "steady" if r.get("steady") else ("stopped: " + r["error"]
+                                                             if "error" in r else "not steady")
+                label = f"step 1 / {dry:g}" if case == "step" else f"cv 0.05, s = {dry:g}"
+                print(f"| {mat} | {label} "
+                      f"| {k:g} | {outcome} | {r.get('steps', '')} | {r.get('nmax', '')} | "
+                      f"{r.get('moisture', float('nan')):.4f} | "
+                      f"{r.get('area_ratio', float('nan')):.4f} |")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("out")
@@ -76,9 +175,14 @@ def main(argv=None):
     ap.add_argument("--k-s", default="0,0.5,1,2,4")
     ap.add_argument("--mfc-only", action="store_true")
     ap.add_argument("--cgms-only", action="store_true")
+    ap.add_argument("--effects", action="store_true",
+                    help="instead: the hard cases (sharp moisture step, cv = 0.05) per k_S")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
+    if args.effects:
+        effects(out, args.materials.split(","), [float(v) for v in args.k_s.split(",")])
+        return
     blocks = [tuple(int(v) for v in b.split("x")) for b in args.blocks.split(",")]
     levels = [float(v) for v in args.levels.split(",")]
     ks = [float(v) for v in args.k_s.split(",")]
