@@ -32,10 +32,17 @@ def _jsonable(o):
     return o.tolist() if hasattr(o, "tolist") else float(o)
 
 
+#: --report: read the stored runs only, run nothing
+REPORT_ONLY = False
+
+
 def once(path, make):
-    """The run stored at ``path``, made by ``make()`` if it is not there yet."""
+    """The run stored at ``path``, made by ``make()`` if it is not there yet (None with
+    --report)."""
     if path.exists():
         return folders.read_json(path)
+    if REPORT_ONLY:
+        return None
     start = time.perf_counter()
     try:
         result = make()
@@ -116,9 +123,17 @@ def hard_case(folder, material_path, k_S, case, dry):
          else np.full(len(xy), mat["diameter"]))
     data = folder / "tissue.data"
     positions.write_data(data, xy, 5 * mat["x_ref"], diameters=d, overwrite=True)
-    # 0.9 of the damping's time-step limit of the smallest cell (tests/test_hard_cases.py)
-    limit = float(model.damping_dt_limit(model.fresh_mass(mat), 6, mat["k_d"]))
-    dt = min(1e-7, 0.9 * limit * (d.min() / mat["diameter"]) ** 2)
+    # 0.9 of the smallest cell's time-step limits (damping as in tests/test_hard_cases.py,
+    # k_S, and the turgor force at 1.1 x the dried reference density (the dried cells start
+    # compressed on the fresh lattice): apple-mfc's
+    # k_T is 300 x apple's), at most the paper's 1e-7 s
+    mass = model.fresh_mass(mat, d.min())
+    side = model.reference_cell(d.min(), mat["pectin"])["b_ref"]
+    limits = [model.damping_dt_limit(mass, 6, mat["k_d"]),
+              model.turgor_dt_limit(mat, mass, 6, side, 1.1 * dry * mat["rho0"], dry)]
+    if k_S > 0:
+        limits.append(model.shape_dt_limit(mass, 6, k_S))
+    dt = min(1e-7, 0.9 * float(min(limits)))
     steps = int(0.03 / dt)
     script = CASE.format(data=data.resolve(), material=Path(material_path).resolve(), k_S=k_S,
                          dry=dry, dryness="v_s" if case == "step" else dry, dt=dt,
@@ -157,6 +172,8 @@ def effects(out, materials, ks):
             for k in ks:
                 tag = f"case-{mat}-{case}{dry:g}-kS{k:g}"
                 r = once(out / f"{tag}.json", lambda: hard_case(out / tag, path, k, case, dry))
+                if r is None:
+                    continue
                 outcome = "steady" if r.get("steady") else ("stopped: " + r["error"]
                                                              if "error" in r else "not steady")
                 label = f"step 1 / {dry:g}" if case == "step" else f"cv 0.05, s = {dry:g}"
@@ -175,9 +192,12 @@ def main(argv=None):
     ap.add_argument("--k-s", default="0,0.5,1,2,4")
     ap.add_argument("--mfc-only", action="store_true")
     ap.add_argument("--cgms-only", action="store_true")
+    ap.add_argument("--report", action="store_true", help="tables of the stored runs only")
     ap.add_argument("--effects", action="store_true",
                     help="instead: the hard cases (sharp moisture step, cv = 0.05) per k_S")
     args = ap.parse_args(argv)
+    global REPORT_ONLY
+    REPORT_ONLY = args.report
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     if args.effects:
@@ -198,8 +218,9 @@ def main(argv=None):
             if not args.cgms_only:
                 mfc = once(out / f"mfc-{name}-s{s:g}.json",
                            lambda: shear.mfc(centres, row, p, s, out / f"mfc-{name}-s{s:g}"))
-                print(f"mfc {name} s={s:g}: {mfc.get('error') or shear.summarise(mfc)}",
-                      file=sys.stderr)
+                if mfc is not None:
+                    print(f"mfc {name} s={s:g}: {mfc.get('error') or shear.summarise(mfc)}",
+                          file=sys.stderr)
             if args.mfc_only:
                 table.append((name, len(centres), s, mfc, {}))
                 continue
@@ -243,7 +264,7 @@ def report(table, ks):
             continue
         gm = shear.summarise(mfc)
         for mat, runs in sweeps.items():
-            ok = [(k, shear.summarise(r)) for k, r in zip(ks, runs) if "error" not in r]
+            ok = [(k, shear.summarise(r)) for k, r in zip(ks, runs) if r and "error" not in r]
             if len(ok) < 2:
                 continue
             for measure in ("clamped", "interior"):
