@@ -7,9 +7,10 @@ k_S, and the k_S whose shear modulus matches the MFC's.
 
     /usr/bin/python3 examples/mfc/shear.py OUT [--blocks 8x5,12x7] [--levels 1,0.8]
         [--materials apple-mfc,apple] [--k-s 0,0.5,1,2,4] [--mfc-only | --cgms-only]
+        [--tissue potato --materials potato-mfc,potato] [--report]
     /usr/bin/python3 examples/mfc/shear.py OUT --effects [--materials ...] [--k-s ...]
 
-One JSON per run in OUT (``mfc-<block>-s<s>.json``, ``cgms-<material>-<block>-s<s>-kS<k>.json``);
+One JSON per run in OUT (``mfc[-<tissue>]-<block>-s<s>.json``, ``cgms-<material>-<block>-s<s>-kS<k>.json``);
 a run whose JSON exists is read back, not run again, so an interrupted study resumes.
 Prints Markdown tables: per block and level the MFC's moduli and, per material, CGMS's
 modulus without k_S, its mean slope in k_S, and the matching k_S (clamped and interior
@@ -189,6 +190,8 @@ def main(argv=None):
     ap.add_argument("--blocks", default="8x5,12x7")
     ap.add_argument("--levels", default="1,0.8")
     ap.add_argument("--materials", default="apple-mfc,apple")
+    ap.add_argument("--tissue", default="apple",
+                    help="CGMS material whose shared values the MFC takes (apple, potato)")
     ap.add_argument("--k-s", default="0,0.5,1,2,4")
     ap.add_argument("--mfc-only", action="store_true")
     ap.add_argument("--cgms-only", action="store_true")
@@ -207,7 +210,8 @@ def main(argv=None):
     levels = [float(v) for v in args.levels.split(",")]
     ks = [float(v) for v in args.k_s.split(",")]
     materials = args.materials.split(",")
-    p = mfc_model.parameters("apple")
+    p = mfc_model.parameters(args.tissue)
+    prefix = "mfc" if args.tissue == "apple" else f"mfc-{args.tissue}"
     x_ref = p["x_ref"]
     table = []
     for ncols, nrows in blocks:
@@ -216,8 +220,8 @@ def main(argv=None):
         for s in levels:
             mfc = None
             if not args.cgms_only:
-                mfc = once(out / f"mfc-{name}-s{s:g}.json",
-                           lambda: shear.mfc(centres, row, p, s, out / f"mfc-{name}-s{s:g}"))
+                mfc = once(out / f"{prefix}-{name}-s{s:g}.json",
+                           lambda: shear.mfc(centres, row, p, s, out / f"{prefix}-{name}-s{s:g}"))
                 if mfc is not None:
                     print(f"mfc {name} s={s:g}: {mfc.get('error') or shear.summarise(mfc)}",
                           file=sys.stderr)
