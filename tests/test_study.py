@@ -173,3 +173,33 @@ def test_write_csv_columns_and_never_overwrites(tmp_path):
         study.write_csv([dict(a=3)], path)
     assert path.read_text().splitlines()[0] == "c,b"
     assert [p.name for p in tmp_path.iterdir()] == ["t.csv"]   # no temporary file left
+
+
+@pytest.mark.lammps
+def test_a_run_whose_neighbour_list_grows_gets_the_forces_of_a_first_run(small_tissue):
+    """Newton (cgms.solve) evaluates forces by one 'run 0' per trial position. A later run
+    whose list holds more pairs than the first (here: the tissue squeezed by 25 %, which brings the second shell into the list) must give
+    the forces of a LAMMPS that runs there first. Fix cgms/fluid once sized its per-pair
+    distance array only when neighbor->ncalls changed, which LAMMPS resets at every run's
+    setup: the squeezed run overran it (heap corruption; Newton with apple-mfc.cgms at
+    s = 0.6 ended in a segfault)."""
+    from cgms import run, solve
+
+    def instance():
+        lmp = run.open_lammps()
+        script = run.tissue_script(small_tissue, APPLE, 0.4, method="newton")
+        lmp.commands_string(script.replace("\nrun 0\n", "\n"))   # set up, not run
+        return lmp, solve.LammpsForces(lmp)
+
+    lmp, forces = instance()
+    xy = forces.positions()
+    squeezed = xy.mean(axis=0) + 0.75 * (xy - xy.mean(axis=0))
+    forces(xy)
+    energy, after = forces(squeezed)
+    lmp.close()
+    lmp, forces = instance()
+    want_energy, want = forces(squeezed)
+    lmp.close()
+    assert np.abs(want).max() > 0
+    assert np.abs(after - want).max() <= 1e-12 * np.abs(want).max()
+    assert energy == pytest.approx(want_energy, rel=1e-12)

@@ -118,7 +118,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
     transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
     dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr), sums(nullptr),
-    nmax_bead(0), rdist(nullptr), rdist_size(0), rdist_builds(-1), rdist_list(nullptr),
+    nmax_bead(0), rdist(nullptr), rdist_size(0), rdist_list(nullptr),
     rdist_valid(0), comm_column(COEF), work(nullptr), nmax_work(0), energy_local(0.0),
     vector_step(-1), setup_done(0)
 {
@@ -706,16 +706,16 @@ void FixCGMSFluid::geometry_pass()
     memory->create(coef, nmax_bead, "cgms/fluid:coef");
     memory->create(sums, 2 * nmax_bead, "cgms/fluid:sums");
   }
-  // the list's length changes only when it is built
-  if (neighbor->ncalls != rdist_builds || list->firstneigh != rdist_list) {
-    rdist_builds = neighbor->ncalls;
-    bigint npairs = 0;
-    for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
-    if (npairs > rdist_size) {
-      rdist_size = npairs + npairs / 4;
-      memory->destroy(rdist);
-      memory->create(rdist, rdist_size, "cgms/fluid:rdist");
-    }
+  // the list's length, counted every pass: neighbor->ncalls cannot tell one build from
+  // another (Verlet and Min set it to 0 after their setup build, so the builds of
+  // consecutive runs, e.g. the 'run 0' of every Newton force evaluation, repeat its values)
+  // and a list that grows between runs would overrun rdist
+  bigint npairs = 0;
+  for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
+  if (npairs > rdist_size) {
+    rdist_size = npairs + npairs / 4;
+    memory->destroy(rdist);
+    memory->create(rdist, rdist_size, "cgms/fluid:rdist");
   }
   // local copies: the loops then keep them in registers
   double *const sums = this->sums;

@@ -85,7 +85,6 @@ class FixCGMSFluid : public Fix {
   int nmax_bead;    // length of coef (sums: twice that)
   double *rdist;    // distance per neighbour-list entry (see distances_for)
   bigint rdist_size;
-  bigint rdist_builds;    // neighbor->ncalls when rdist was sized for the list
   int **rdist_list;       // firstneigh of the list rdist follows
   int rdist_valid;        // set by the geometry pass, cleared by the pair after use
 
