@@ -7,7 +7,7 @@ k_S, and the k_S whose shear modulus matches the MFC's.
 
     /usr/bin/python3 examples/mfc/shear.py OUT [--blocks 8x5,12x7] [--levels 1,0.8]
         [--materials apple-mfc,apple] [--k-s 0,0.5,1,2,4] [--mfc-only | --cgms-only]
-        [--tissue potato --materials potato-mfc,potato] [--report]
+        [--tissue potato --mfc-set wall_Et=660 --materials potato-mfc,potato] [--report]
     /usr/bin/python3 examples/mfc/shear.py OUT --effects [--materials ...] [--k-s ...]
 
 One JSON per run in OUT (``mfc[-<tissue>]-<block>-s<s>.json``, ``cgms-<material>-<block>-s<s>-kS<k>.json``);
@@ -192,6 +192,9 @@ def main(argv=None):
     ap.add_argument("--materials", default="apple-mfc,apple")
     ap.add_argument("--tissue", default="apple",
                     help="CGMS material whose shared values the MFC takes (apple, potato)")
+    ap.add_argument("--mfc-set", default="", metavar="NAME=VALUE,...",
+                    help="MFC values other than mfc_model.MFC's; potato's reference: "
+                         "wall_Et=660 (examples/calibration/potato.py)")
     ap.add_argument("--k-s", default="0,0.5,1,2,4")
     ap.add_argument("--mfc-only", action="store_true")
     ap.add_argument("--cgms-only", action="store_true")
@@ -210,7 +213,8 @@ def main(argv=None):
     levels = [float(v) for v in args.levels.split(",")]
     ks = [float(v) for v in args.k_s.split(",")]
     materials = args.materials.split(",")
-    p = mfc_model.parameters(args.tissue)
+    mfc_set = {k: float(v) for k, v in (kv.split("=") for kv in args.mfc_set.split(",") if kv)}
+    p = mfc_model.parameters(args.tissue, **mfc_set)
     prefix = "mfc" if args.tissue == "apple" else f"mfc-{args.tissue}"
     x_ref = p["x_ref"]
     table = []
