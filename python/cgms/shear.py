@@ -120,8 +120,8 @@ def load(lmp, relax, centroids, bottom, top, centres_row, length, gap, gammas=GA
         # the held bottom row's reaction: minus the top's when the rest is at steady state
         bottom_force = np.array([lmp.extract_fix("hold", 0, 1, k) for k in range(2)]) - base_bottom
         component = 1 if kind == "uniaxial" else 0
-        # reaction on the top row = minus the force the rest exerts: the stress the
-        # block carries is the force the rest exerts on the top row, reversed
+        # the agent holding the top row balances the force the rest exerts on it: the
+        # stress is that force, reversed, per width
         stress = -force[component] / length
         rows.append(dict(kind=kind, strain=amount, stress=float(stress), move=move.tolist(),
                          top_force=force.tolist(), bottom_force=bottom_force.tolist(),
