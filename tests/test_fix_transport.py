@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import crank
-from cgmstest import PLUGIN, ROOT, read_dump, run_lmp
+from cgmstest import PLUGIN, ROOT, read_dump, run_lmp, slow
 from cgms import tissue, transport
 
 PARAMS_FILE = ROOT / "potentials" / "apple-drying.params"
@@ -36,11 +36,11 @@ def jittered(ncols=6, nrows=7, jitter=0.04, seed=3):
 
 
 def script(fix_args, steps, params=PARAMS_FILE, thermo_every=1, extra="", processors=None,
-           head=True, dump=True):
+           head=True, dump=True, cut=CUT):
     lines = [f"plugin load {PLUGIN}", "units si", "dimension 2", "boundary f f p",
              f"processors {processors} 1 1" if processors else "",
              "atom_style cgms", "atom_modify map array sort 0 0", "read_data t.data",
-             f"pair_style zero {CUT}", "pair_coeff * *", "neighbor 1.5e-5 bin"] if head else []
+             f"pair_style zero {cut!r}", "pair_coeff * *", f"neighbor {0.1 * cut!r} bin"] if head else []
     lines += [f"fix tr all cgms/transport {params} {fix_args}",
               "thermo_style custom step " + " ".join(f"f_tr[{k}]" for k in range(1, 15)),
               "thermo_modify format float %.17g", f"thermo {thermo_every}", extra,
@@ -62,7 +62,7 @@ def thermo(stdout):
 
 
 def lammps(folder, xy, fix_args, steps, nprocs=1, **kw):
-    tissue.write_data(folder / "t.data", xy, 3 * A, overwrite=True)
+    tissue.write_data(folder / "t.data", xy, 3 * kw.get("cut", CUT) / 1.35, overwrite=True)
     proc = run_lmp(folder, script(fix_args, steps, **kw), nprocs=nprocs)
     return thermo(proc.stdout), read_dump(folder / "out.dump")
 
@@ -71,16 +71,14 @@ def oracle(xy, steps, dt, layers, faces=2, outline=True, inplane=True, heat=Fals
            temperature=70.0, humidity=0.1, velocity=1.5, plate=0.04, thickness=2e-3,
            linear=None, adapt=None, params=None):
     """cgms.transport stepped as cgms.drying.dry steps it (shape frozen, fixed or adaptive
-    step), on the geometry of cgms.transport.bead_geometry with the fix's outline
-    stand-in: a bead with N < 6 neighbours exposes (6 - N) a / 2 (the Python side uses
-    the smoothed outline polygon instead). Returns the node moisture (n, layers), the
-    product temperature, the water out through faces and outline, and the initial water."""
+    step), on the geometry of cgms.transport.bead_geometry (its outline is the one the fix
+    constructs). Returns the node moisture (n, layers), the product temperature, the water
+    out through faces and outline, and the initial water."""
     p = params or read_params()
     n = len(xy)
     geo = transport.bead_geometry(xy, CUT)
-    count = np.bincount(geo["pairs"].ravel(), minlength=n)
-    geo["edge"] = np.where(count < 6, 0.5 * (6 - count) * geo["spacing"], 0.0) if outline \
-        else np.zeros(n)
+    if not outline:
+        geo["edge"] = np.zeros(n)
     if not inplane:
         geo = dict(geo, pairs=np.zeros((0, 2), int), dist=np.zeros(0), face=np.zeros(0))
     solids = p["solids_density"] * geo["area"] * thickness
@@ -150,13 +148,16 @@ def test_matches_python_oracle(tmp_path, name):
     x, _, out_face, out_edge, w0 = oracle(xy, 25, 10.0, 3, adapt=(0.02, 300.0), **case)
     x0 = read_params()["X0"]
     assert np.abs(nodes(dump) - x / x0).max() < 1e-10
-    assert np.ptp(x / x0) > 0.5                                # a real moisture field
+    assert np.ptp(x / x0) > 0.3                                # a real moisture field
     last = rows[-1]
     assert last[0] == 25 and last[14] == 25                   # 25 moisture steps
     assert abs(last[5] - out_face) <= 1e-10 * w0
     assert abs(last[6] - out_edge) <= 1e-10 * w0
     assert last[3] < 0.85                                      # it dried
     assert abs(last[7]) < 1e-10                                # water balance
+    # the drying rate: the X/X0 lost in the last step over its length (h)
+    prev = rows[-2]
+    assert abs(last[4] - (prev[3] - last[3]) / (last[2] - prev[2])) < 1e-9 * last[4]
 
 
 def test_product_temperature_matches_python(tmp_path):
@@ -209,6 +210,46 @@ def test_slab_matches_crank(tmp_path):
     exact = crank.slab_mean(fo, biot)
     assert np.abs(rows[1:, 3] / exact - 1).max() < 0.01
     assert rows[-1][3] < 0.7                       # Crank: 0.681 at Fo = 0.3, Bi = 2
+
+
+def disc_error(folder, spacing, biot=2.0, fourier=0.2, steps=300):
+    """Largest relative error of X/X0(t) of a disc (outline only, one layer, constant D,
+    Crank's convective boundary) against Crank's series for the cylinder (eq. 5.52)."""
+    p = read_params()
+    d = p["D_ref"]                                     # the fix runs at T_air = T_ref
+    xy = tissue.disc(1.5e-3, spacing)
+    # the disc the beads tile: each owns a hexagonal cell of the lattice
+    radius = np.sqrt(len(xy) * 0.5 * np.sqrt(3) * spacing**2 / np.pi)
+    hx = biot * d / radius * p["solids_density"]      # h rho_s, per unit X
+    dt = fourier * radius**2 / d / steps
+    rows, _ = lammps(folder, xy, f"layers 1 dt {dt!r} faces 0 outline yes inplane yes "
+                     f"temperature {p['T_ref']} surface linear {hx!r} 0.0", steps,
+                     thermo_every=15, cut=1.35 * spacing)
+    fo = rows[1:, 1] * d / radius**2
+    assert abs(fo[-1] - fourier) < 1e-9
+    return np.abs(rows[1:, 3] / crank.disc_mean(fo, biot) - 1).max(), rows[-1][3]
+
+
+def test_disc_matches_crank(tmp_path):
+    """Frozen mechanics, constant D, water out through the outline only (the outline the
+    fix constructs from each bead's neighbours): X/X0(t) follows Crank's series for the
+    disc within 1 % at every size, and the error falls as the beads get smaller (367, 823 and 3259
+    beads; measured 7.7e-3, 2.3e-3, 7.5e-4)."""
+    errors = []
+    for spacing in (1.5e-4, 1e-4, 0.5e-4):
+        folder = tmp_path / f"a{spacing}"
+        folder.mkdir()
+        error, last = disc_error(folder, spacing)
+        assert last < 0.6                             # Crank: 0.573 at Fo = 0.2, Bi = 2
+        errors.append(error)
+    assert max(errors) < 0.01 and errors[0] > errors[1] > errors[2]
+
+
+@slow
+def test_disc_matches_crank_fine(tmp_path):
+    """The same with 13 057 beads (spacing 25 um): measured 1.3e-4."""
+    error, _ = disc_error(tmp_path, 0.25e-4)
+    assert error < 5e-4
 
 
 def test_uniform_field_stays_uniform(tmp_path):

@@ -2,22 +2,27 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Steady states of the full SPH model against the fast variant (one pressure per cell) on
-one cell or a 7-cell cluster, fresh and dried along the same ramp (doc/mfc.md, table
-"SPH against the fast variant").
+one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
 
     source build/env.sh
     /usr/bin/python3 examples/mfc/sph_vs_fast.py [cells: 1 or 7] [levels, e.g. 1,0.8]
+    /usr/bin/python3 examples/mfc/sph_vs_fast.py 7 0.8,0.6,0.3 --from-fast [--kick 0.5]
 
-Prints, per level, the cell area, perimeter and centroid of both models, their relative
-differences, the SPH fluid's mean pressure and the wall time of each."""
+Default: both models dried along the same ramp from the fresh cell(s). ``--from-fast``:
+the SPH model started from the fast variant's steady state of each level (every ring
+filled with SPH fluid at rest, ``cgms.mfc_sph.write_state``), walls optionally kicked at
+random by up to ``--kick`` um, and run ``--steps`` steps: does SPH stay there (or come
+back)? Prints, per level, the cell area, perimeter and centroid of both models, their
+differences (largest over the cells), the SPH fluid's pressure and the wall times."""
 
+import argparse
 import math
-import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from cgms import mfc_metrics, mfc_model, mfc_run, mfc_sph, mfc_tissue, run
 
@@ -40,9 +45,48 @@ def sph_state(lmp, p):
     return mfc_sph.wall_positions(lmp, p), rho
 
 
+def from_fast(folder, p, s, walls, colour, pressure, steps, kick):
+    """SPH started from the fast variant's steady state ``walls`` at level s; prints the
+    state every 4 000 steps (pairing shows as nearest fluid neighbours much closer than
+    the lattice spacing). Returns the SPH walls, fluid pressures, filled fluid area per
+    cell and seconds."""
+    t = time.perf_counter()
+    state = mfc_sph.write_state(folder / f"sph.s{s}.data", walls, colour, p, s, pressure)
+    sph = run.open_lammps(log=folder / f"sph.s{s}.log")
+    sph.commands_list(mfc_sph.setup_commands(folder / f"sph.s{s}.data", p))
+    sph.commands_list(mfc_sph.level_commands(p, s, mf=state["fluid_mass"]) + ["timestep 2e-9"])
+    if kick:
+        sph.command(f"displace_atoms wall random {kick * 1e-6:.6g} {kick * 1e-6:.6g} 0 7 units box")
+    rho_r, c0 = mfc_sph.tait(p, s)
+    cf = mfc_metrics.cells(walls, p["n_wall"])
+    nw, dx = len(walls), p["fluid_spacing"] * math.sqrt(s)
+    done = 0
+    while done < steps:
+        sph.command(f"run {STAGE_STEPS}")
+        done += STAGE_STEPS
+        xy, rho = sph_state(sph, p)
+        cs = mfc_metrics.cells(xy, p["n_wall"])
+        pf = c0 * c0 * rho_r / 7 * ((rho[nw:] / rho_r) ** 7 - 1) / p["height"]
+        x = mfc_run.positions(sph)[nw:]
+        near = cKDTree(x).query(x, 2)[0][:, 1]
+        print(f"    {done:6d} steps: area {np.abs(cs['area'] / cf['area'] - 1).max():.4%}, "
+              f"perimeter {np.abs(cs['perimeter'] / cf['perimeter'] - 1).max():.4%}, "
+              f"centroid {np.hypot(*(cs['centroid'] - cf['centroid']).T).max() * 1e6:.3f} um; "
+              f"fluid P {pf.mean() / 1e3:.1f} +- {pf.std() / 1e3:.1f} kPa, "
+              f"nearest fluid neighbour {near.mean() / dx:.2f} dx", flush=True)
+    sph.close()
+    return xy, pf, state["fluid_area"], time.perf_counter() - t
+
+
 def main():
-    ncell = int(sys.argv[1]) if len(sys.argv) > 1 else 1
-    levels = [float(s) for s in (sys.argv[2] if len(sys.argv) > 2 else "1,0.8,0.6,0.4,0.3").split(",")]
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("cells", nargs="?", type=int, default=1, choices=(1, 7))
+    parser.add_argument("levels", nargs="?", default="1,0.8,0.6,0.4,0.3")
+    parser.add_argument("--from-fast", action="store_true")
+    parser.add_argument("--steps", type=int, default=60000)
+    parser.add_argument("--kick", type=float, default=0.0, help="um")
+    args = parser.parse_args()
+    ncell, levels = args.cells, [float(s) for s in args.levels.split(",")]
     p = mfc_model.parameters()
     centres = cluster(ncell)
     folder = Path(tempfile.mkdtemp(prefix="mfc-sph-"))
@@ -54,9 +98,25 @@ def main():
     for s in levels:
         t = time.perf_counter()
         report = mfc_run.ramp(fast, p, previous, s, ftol=1e-11)
-        results[s] = (mfc_run.positions(fast), time.perf_counter() - t, report["converged"])
+        pressure = np.array([fast.numpy.extract_fix("mfc", 0, 2, c, 1) for c in range(ncell)])
+        results[s] = (mfc_run.positions(fast), time.perf_counter() - t, report["converged"],
+                      pressure)
         previous = s
+    colour = np.array(fast.gather_atoms("type", 0, 1)) - 1
     fast.close()
+    if args.from_fast:
+        print(f"{ncell} cell(s), SPH from the fast steady states, kick {args.kick} um; "
+              f"folder {folder}")
+        for s in levels:
+            xf, tf, ok, pfast = results[s]
+            print(f"  s = {s}: fast converged {ok} ({tf:.1f} s), fluid P "
+                  f"{pfast.min() / 1e3:.1f} to {pfast.max() / 1e3:.1f} kPa", flush=True)
+            xs, pf, fluid, ts = from_fast(folder, p, s, xf, colour, pfast, args.steps, args.kick)
+            cf, cs = mfc_metrics.cells(xf, p["n_wall"]), mfc_metrics.cells(xs, p["n_wall"])
+            print(f"  s = {s}: fast area/A0 {cf['area'].mean() / p['A_ref']:.4f}, SPH "
+                  f"{cs['area'].mean() / p['A_ref']:.4f}; SPH fluid filled / ring "
+                  f"{(fluid / cf['area']).mean():.3f}; {ts:.0f} s", flush=True)
+        return
     # the SPH model along the same ramp
     mfc_sph.write_data(folder / "sph.data", centres, p)
     sph = run.open_lammps(log=folder / "sph.log")
@@ -83,7 +143,7 @@ def main():
                 break
         ts = time.perf_counter() - t
         xs, rho = sph_state(sph, p)
-        xf, tf, ok = results[s]
+        xf, tf, ok, _ = results[s]
         rho_r, c0 = mfc_sph.tait(p, s)
         b = c0 * c0 * rho_r / 7
         pf = b * ((rho[len(xs):] / rho_r) ** 7 - 1) / p["height"]

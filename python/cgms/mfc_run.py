@@ -133,16 +133,36 @@ def _cells(lmp, n_wall):
     return c["centroid"], c["area"]
 
 
+def remaining(changes, last=6):
+    """Extrapolate a decaying series of per-chunk changes (e.g. the mean centroid shift of
+    each chunk): fit ``|c_k| = a r^k`` to the last ``last`` chunks (least squares in log)
+    and return ``(r, rest)``, ``rest`` the sum of the chunks still to come,
+    ``a r^n r / (1 - r)`` after the n-th. ``rest`` is inf when the changes do not decay
+    (r >= 1) and nan with fewer than three chunks."""
+    c = np.abs(np.asarray(changes, float))[-last:]
+    if len(c) < 3:
+        return math.nan, math.nan
+    k = np.arange(len(c))
+    slope, intercept = np.polyfit(k, np.log(np.maximum(c, 1e-300)), 1)
+    r = math.exp(slope)
+    if r >= 1:
+        return r, math.inf
+    return r, math.exp(intercept + slope * k[-1]) * r / (1 - r)
+
+
 def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAULTS["area"],
           chunk=DEFAULTS["chunk"], max_iterations=DEFAULTS["max_iterations"],
           timestep=DEFAULTS["timestep"], dmax=DEFAULTS["dmax"], style=DEFAULTS["style"]):
     """Set the levers of ``s`` and minimise to the steady-state criterion (module doc).
     Returns the iterations, the largest force component left (N), the centroid shift (m)
-    and relative area change of the last chunk, the energy, and ``converged``."""
+    and relative area change of the last chunk, the energy, ``converged``, and for a level
+    that did not converge, the mean centroid shift of each chunk (``mean_shifts``, m) and
+    what :func:`remaining` extrapolates from them (``shift_ratio`` per chunk,
+    ``remaining_shift``: the mean centroid travel still to come, m)."""
     start = lmp.extract_global("ntimestep")
     lmp.commands_list(level_commands(p, s))
     centroid, cell_area = _cells(lmp, p["n_wall"])
-    done, now = 0, style
+    done, now, means = 0, style, []
     while True:
         before = lmp.extract_global("ntimestep")
         lmp.commands_list(minimize_commands(ftol, chunk, timestep, dmax, now))
@@ -153,14 +173,22 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
         stalled = fmax > ftol and lmp.extract_global("ntimestep") - before < chunk
         now = "fire" if stalled else style
         new_centroid, new_area = _cells(lmp, p["n_wall"])
-        moved = float(np.hypot(*(new_centroid - centroid).T).max())
+        shifts = np.hypot(*(new_centroid - centroid).T)
+        moved = float(shifts.max())
+        means.append(float(shifts.mean()))
         changed = float(np.abs(new_area / cell_area - 1).max())
         centroid, cell_area = new_centroid, new_area
         steady = fmax <= ftol or (moved <= shift and changed <= area and not stalled)
         if steady or done >= max_iterations:
             break
-    return dict(s=s, iterations=done, fmax=fmax, shift=moved, area_change=changed,
-                converged=bool(steady), energy=lmp.get_thermo("pe"))
+    report = dict(s=s, iterations=done, fmax=fmax, shift=moved, area_change=changed,
+                  converged=bool(steady), energy=lmp.get_thermo("pe"))
+    if not steady:
+        ratio, rest = remaining(means)
+        # None, not nan or inf, in the level record: too few chunks, or not decaying
+        report.update(mean_shifts=means, shift_ratio=ratio if math.isfinite(ratio) else None,
+                      remaining_shift=rest if math.isfinite(rest) else None)
+    return report
 
 
 def stages(s_from, s_to, stage):

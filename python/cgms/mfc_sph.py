@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from . import folders, mfc_run, mfc_tissue
+from . import folders, mfc_run, mfc_tissue, tissue
 from .mfc_model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
@@ -50,32 +50,78 @@ def write_data(path, centres, p, overwrite=False):
     fresh tissue: walls as :func:`cgms.mfc_tissue.write_data`, then the fluid."""
     w = mfc_tissue.walls(centres, p)
     fluid = [mfc_tissue.fluid_points(c, p, w["angle"]) for c in np.asarray(centres, float)]
-    nf = len(fluid[0])
-    col = w["colour"][:: p["n_wall"]]
-    xy = np.concatenate([w["xy"]] + fluid)
-    ncell, nw = len(centres), len(w["xy"])
-    types = np.concatenate([w["colour"] + 1, np.repeat(col + 4, nf)])
-    mols = np.concatenate([w["cell"] + 1, np.repeat(np.arange(1, ncell + 1), nf)])
-    rho = tait(p, 1.0)[0]
+    rho = np.full(len(fluid), tait(p, 1.0)[0])
+    return _write(path, w["xy"], w["colour"], fluid, p, rho, fluid_mass(p),
+                  p["wall_mass"], f"MFC tissue (SPH): {len(centres)} cells", overwrite)
+
+
+def fill(ring, p, s):
+    """SPH fluid particles filling one wall ring of any shape (a dried, wrinkled one) at
+    level ``s``: the fluid lattice contracted with the fluid, spacing
+    ``fluid_spacing * sqrt(s)``, on the ring's mean, kept inside the ring and at least
+    ``fluid_margin`` from its polyline (the rule :func:`cgms.mfc_tissue.fluid_points`
+    applies to the fresh hexagon)."""
+    ring = np.asarray(ring, float)
+    h = p["fluid_spacing"] * math.sqrt(s)
+    centre = ring.mean(axis=0)
+    m = int(np.ceil(np.abs(ring - centre).max() / h)) + 1
+    g = (np.arange(-m, m) + 0.5) * h
+    pts = centre + np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+    pts = pts[tissue._inside(pts, ring, 0.0, closed=False)]
+    return pts[tissue._boundary_distance(pts, ring) >= p["fluid_margin"]]
+
+
+def write_state(path, walls, colour, p, s, pressure=None, overwrite=False):
+    """Data file of a steady state of the fast variant at level ``s`` (wall positions
+    ``walls`` by atom ID, cell colours ``colour`` 0-2 per wall particle) with every cell
+    filled by :func:`fill`: fluid at rest at the cell's ``pressure`` (Pa, per cell, e.g.
+    ``fix mfc/pressure``'s; default 0) through the EOS of level s, each particle of the
+    mass of its lattice cell at the level's rest density, walls of the level's mass.
+    Returns the counts, the fluid particle mass and the fluid area per cell (its lattice
+    cells)."""
+    walls = np.asarray(walls, float)
+    rings = walls.reshape(-1, p["n_wall"], 2)
+    fluid = [fill(ring, p, s) for ring in rings]
+    rho_r, c0 = tait(p, s)
+    pressure = np.zeros(len(rings)) if pressure is None else np.asarray(pressure, float)
+    # LAMMPS's Tait EOS, p H = B [(rho/rho_r)^7 - 1], B = c0^2 rho_r / 7, solved for rho
+    rho = rho_r * (1 + pressure * p["height"] / (c0 * c0 * rho_r / 7)) ** (1 / 7)
+    mass = rho_r * p["fluid_spacing"] ** 2 * s
+    out = _write(path, walls, np.asarray(colour, int), fluid, p, rho, mass,
+                 level(p, s)["wall_mass"], f"MFC tissue (SPH) at s = {s:g}", overwrite)
+    out.update(fluid_mass=mass, fluid_area=np.array([len(f) for f in fluid]) * mass / rho_r)
+    return out
+
+
+def _write(path, walls, colour, fluid, p, rho, fluid_mass_, wall_mass, title, overwrite):
+    """The data file of walls (``n_cells * n_wall``, consecutive IDs per cell ring) and
+    their cells' fluid points; ``rho`` per cell (its walls and fluid)."""
+    nf = [len(f) for f in fluid]
+    col = colour[:: p["n_wall"]]
+    xy = np.concatenate([walls] + list(fluid))
+    ncell, nw = len(fluid), len(walls)
+    cell = np.arange(nw) // p["n_wall"]
+    types = np.concatenate([colour + 1, np.repeat(col + 4, nf)])
+    mols = np.concatenate([cell + 1, np.repeat(np.arange(1, ncell + 1), nf)])
     margin = 3 * p["x_ref"]
     lo, hi = xy.min(axis=0) - margin, xy.max(axis=0) + margin
     ids = np.arange(1, nw + 1)
-    first = w["cell"] * p["n_wall"] + 1
+    first = cell * p["n_wall"] + 1
     nxt = first + (ids - first + 1) % p["n_wall"]
     prv = first + (ids - first - 1) % p["n_wall"]
-    lines = [f"MFC tissue (SPH): {ncell} cells", "", f"{len(xy)} atoms", f"{nw} bonds",
+    lines = [title, "", f"{len(xy)} atoms", f"{nw} bonds",
              f"{nw} angles", "6 atom types", "1 bond types", "1 angle types", "",
              f"{lo[0]:.10e} {hi[0]:.10e} xlo xhi", f"{lo[1]:.10e} {hi[1]:.10e} ylo yhi",
              f"{-margin:.10e} {margin:.10e} zlo zhi", "", "Masses", ""]
-    lines += [f"{t} {p['wall_mass']:.10e}" for t in (1, 2, 3)]
-    lines += [f"{t} {fluid_mass(p):.10e}" for t in (4, 5, 6)]
+    lines += [f"{t} {wall_mass:.10e}" for t in (1, 2, 3)]
+    lines += [f"{t} {fluid_mass_:.10e}" for t in (4, 5, 6)]
     lines += ["", "Atoms # hybrid", ""]
-    lines += [f"{i + 1} {t} {x:.12e} {y:.12e} 0.0 {rho:.10e} 0.0 1.0 {m}"
+    lines += [f"{i + 1} {t} {x:.12e} {y:.12e} 0.0 {rho[m - 1]:.10e} 0.0 1.0 {m}"
               for i, (t, m, (x, y)) in enumerate(zip(types, mols, xy))]
     lines += ["", "Bonds", ""] + [f"{i} 1 {i} {j}" for i, j in zip(ids, nxt)]
     lines += ["", "Angles", ""] + [f"{i} 1 {a} {i} {b}" for i, a, b in zip(ids, prv, nxt)]
     folders.write_text(path, "\n".join(lines) + "\n", overwrite)
-    return dict(walls=nw, fluid=ncell * nf)
+    return dict(walls=nw, fluid=int(sum(nf)))
 
 
 def setup_commands(data, p, newton="on", processors=None):
@@ -113,12 +159,12 @@ def sph_commands(p, s):
         [f"pair_coeff {c} {c} {coef}" for c in (4, 5, 6)]
 
 
-def level_commands(p, s):
+def level_commands(p, s, mf=None):
     """The levers of level ``s`` (MFC.md 5.2) but the densities (:func:`dry`): masses of
-    fluid and wall, the EOS of s, the contracted wall rest length, the damping of the
-    new masses."""
+    fluid (``mf``, default s x the fresh one) and wall, the EOS of s, the contracted wall
+    rest length, the damping of the new masses."""
     lv = level(p, s)
-    mw, mf = lv["wall_mass"], s * fluid_mass(p)
+    mw, mf = lv["wall_mass"], s * fluid_mass(p) if mf is None else mf
     return [f"mass 1*3 {mw:.10g}", f"mass 4*6 {mf:.10g}"] + sph_commands(p, s) + [
         f"bond_coeff 1 {p['k_bond'] / 2:.10g} {lv['r0_bond']:.10g}",
         f"fix dw wall viscous {mw / TAU:.10g}", f"fix df fluid viscous {mf / TAU:.10g}"]

@@ -26,11 +26,9 @@ import math
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
-from scipy.ndimage import gaussian_filter1d
 from scipy.optimize import brentq
 from scipy.spatial import cKDTree
 
-from . import morphology
 
 R_GAS = 8.314462618        # J/(mol K)
 M_WATER = 0.018015         # kg/mol
@@ -138,19 +136,91 @@ def diffusivity(x, t_c, d_ref, t_ref_c, energy, b=0.0, x0=1.0):
 # ------------------------------------------------------------------------- geometry
 
 
-def bead_geometry(xy, cutoff, max_edge=None, smooth=2.0):
+#: a bead whose widest angular gap between neighbours exceeds this is on the outline: on a
+#: hexagonal lattice an interior bead's gaps are 60 deg, a concave corner's open gap 120,
+#: a straight edge's 180 and a convex corner's 240; 100 deg lies between 60 and 120 with
+#: 40 deg to spare for the shear of a shrunken tissue on the side of the interior gaps,
+#: which are the many
+OPEN_GAP = math.radians(100.0)
+#: passes of the [1, 2, 1] / 4 smoothing along the outline: 8 passes are a Gaussian of
+#: 2 beads (variance 8 / 2)
+OUTLINE_PASSES = 8
+
+
+def outline_edge(xy, pairs, spacing, passes=OUTLINE_PASSES, offset=True):
+    """Length of the tissue outline each bead exposes to air (m), found from every bead's
+    own neighbours (the construction ``fix cgms/transport`` makes in LAMMPS, one to one):
+
+    - the neighbours of a bead sorted by angle; the widest gap between two successive
+      ones, if wider than :data:`OPEN_GAP`, is open to air. Its two bounding neighbours
+      are the bead's neighbours along the outline polygon (on a lattice they are those of
+      :func:`cgms.morphology.outline`); half of each of the two edges is its share;
+    - the polygon smoothed ``passes`` times, each vertex to (prev + 2 self + next) / 4:
+      the staircase of a lattice outline is 10 % longer than the curve it follows, and
+      stays so however small the beads (measured on discs, doc/drying.md);
+    - offset outwards by half a spacing: each bead adds a/2 times the turning angle of
+      the smoothed polygon at it (pi a over a closed outline).
+
+    ``passes`` = 0 and ``offset`` False give the shares of the plain polygon. A bead the
+    outline passes twice (a bridge one bead wide) counts its widest gap only."""
+    xy = np.asarray(xy, float)
+    n = len(xy)
+    i = np.concatenate([pairs[:, 0], pairs[:, 1]])
+    j = np.concatenate([pairs[:, 1], pairs[:, 0]])
+    d = xy[j] - xy[i]
+    angle = np.arctan2(d[:, 1], d[:, 0])
+    order = np.lexsort((angle, i))
+    i, j, angle = i[order], j[order], angle[order]
+    start = np.searchsorted(i, np.arange(n))
+    count = np.bincount(i, minlength=n)
+    # the gap from each neighbour to the next one counter-clockwise (the last wraps)
+    following = np.arange(len(i)) + 1
+    last = start + count - 1
+    following[last] = start
+    gap = angle[following] - angle
+    gap[last] += 2 * np.pi
+    widest = np.full(n, -1.0)
+    np.maximum.at(widest, i, gap)
+    at = np.nonzero(gap == widest[i])[0]
+    at = at[np.unique(i[at], return_index=True)[1]]          # the first widest per bead
+    sel = widest[i[at]] > OPEN_GAP
+    ring = i[at][sel]
+    prev = np.full(n, -1)
+    nxt = np.full(n, -1)
+    # walking the outline counter-clockwise (tissue on the left, air on the right), the
+    # neighbour where the open gap starts (counter-clockwise) comes before the bead, the
+    # one where it ends after it
+    prev[ring] = j[at[sel]]
+    nxt[ring] = j[following[at[sel]]]
+    shift = np.zeros_like(xy)
+    for _ in range(passes):
+        p = xy + shift
+        new = np.zeros_like(xy)
+        new[ring] = 0.25 * (p[prev[ring]] + 2 * p[ring] + p[nxt[ring]]) - xy[ring]
+        shift = new
+    p = xy + shift
+    back = p[ring] - p[prev[ring]]
+    ahead = p[nxt[ring]] - p[ring]
+    cross = back[:, 0] * ahead[:, 1] - back[:, 1] * ahead[:, 0]
+    dot = np.sum(back * ahead, axis=1)
+    # the tip of a one-bead chain turns back: +pi (the outline goes round it)
+    turn = np.where((cross == 0) & (dot < 0), np.pi, np.arctan2(cross, dot))
+    edge = np.zeros(n)
+    edge[ring] = 0.5 * (np.hypot(*back.T) + np.hypot(*ahead.T))
+    if offset:
+        edge[ring] += 0.5 * np.asarray(spacing)[ring] * turn
+    return np.maximum(edge, 0.0)     # a sharp concave corner cannot take in air
+
+
+def bead_geometry(xy, cutoff):
     """In-plane finite-volume geometry of the beads at positions ``xy`` (n, 2), as a dict:
 
     - ``pairs`` (m, 2): neighbours (centre distance below ``cutoff``), ``dist`` their
       distance (the path length), ``face`` the length of the face they share: a bead
       owns the hexagonal Voronoi cell of its lattice, whose face is dist / sqrt(3);
     - ``area`` (n,): (sqrt 3 / 2) a^2, a the bead's mean neighbour distance;
-    - ``edge`` (n,): length of the tissue outline a bead exposes to air: the outline
-      polygon of bead centres (:func:`cgms.morphology.outline`), smoothed along the ring
-      (a Gaussian of ``smooth`` beads: the staircase of a lattice outline is 10 %
-      longer than the curve it follows, and stays so however small the beads; measured
-      on discs, doc/drying.md), offset outwards by half a spacing (its length grows by
-      pi a), shared out by half the adjacent edges;
+    - ``edge`` (n,): length of the tissue outline a bead exposes to air
+      (:func:`outline_edge`);
     - ``spacing`` (n,): the mean neighbour distance a."""
     xy = np.asarray(xy, float)
     n = len(xy)
@@ -163,17 +233,8 @@ def bead_geometry(xy, cutoff, max_edge=None, smooth=2.0):
     total = np.bincount(pairs[:, 0], dist, n) + np.bincount(pairs[:, 1], dist, n)
     a = total / count
     area = 0.5 * math.sqrt(3) * a * a
-    ring = morphology.outline(xy, max_edge)
-    poly = xy[ring]
-    if smooth > 0 and len(ring) > 6 * smooth:
-        poly = gaussian_filter1d(poly, smooth, axis=0, mode="wrap")
-    edges = np.linalg.norm(np.roll(poly, -1, axis=0) - poly, axis=1)
-    share = 0.5 * (edges + np.roll(edges, 1))
-    perimeter = edges.sum()
-    edge = np.zeros(n)
-    np.add.at(edge, ring, share * (perimeter + math.pi * np.mean(a[ring])) / perimeter)
-    return dict(pairs=pairs, dist=dist, face=dist / math.sqrt(3), area=area, edge=edge,
-                spacing=a)
+    return dict(pairs=pairs, dist=dist, face=dist / math.sqrt(3), area=area,
+                edge=outline_edge(xy, pairs, a), spacing=a)
 
 
 # ------------------------------------------------------------------------- the grid

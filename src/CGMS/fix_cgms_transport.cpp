@@ -7,6 +7,7 @@
 
 #include "fix_cgms_transport.h"
 
+#include "cgms_column_cg.h"
 #include "cgms_parameter_file.h"
 
 #include "atom.h"
@@ -14,6 +15,7 @@
 #include "domain.h"
 #include "error.h"
 #include "force.h"
+#include "math_const.h"
 #include "memory.h"
 #include "modify.h"
 #include "neigh_list.h"
@@ -22,11 +24,14 @@
 #include "pair.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
+using MathConst::MY_PI;
 
 namespace {
 constexpr double R_GAS = 8.314462618;    // J/(mol K)
@@ -35,7 +40,16 @@ constexpr double M_AIR = 0.028965;       // kg/mol
 constexpr double KELVIN = 273.15;
 constexpr double P_ATM = 101325.0;    // Pa
 constexpr int NVECTOR = 14;
-enum { MODE_STATE, MODE_DIRECTION };
+enum { MODE_STATE, MODE_DIRECTION, MODE_SHIFT };
+
+// a bead whose widest angular gap between neighbours exceeds this is on the outline:
+// on a hexagonal lattice an interior bead's gaps are 60 deg, a concave corner's open
+// gap 120, a straight edge's 180, a convex corner's 240; 100 deg lies between 60 and
+// 120 with 40 deg to spare for the shear of a shrunken tissue on the side of the many
+// interior gaps (python/cgms/transport.py OPEN_GAP)
+constexpr double OPEN_GAP = 100.0 * MY_PI / 180.0;
+// passes of the [1, 2, 1] / 4 smoothing along the outline: a Gaussian of 2 beads
+constexpr int OUTLINE_PASSES = 8;
 
 // the functions of python/cgms/transport.py, one to one (their docstrings cite the sources)
 double saturation_pressure(double t)
@@ -85,9 +99,9 @@ inline double series(double g, double alpha)
 FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), list(nullptr), store(nullptr), out(nullptr), nmax_bead(0), rho_s(nullptr),
     dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr), dn(nullptr),
-    pn(nullptr), diag(nullptr), lower(nullptr), piv(nullptr), mul(nullptr), c1(nullptr),
-    c0(nullptr), c1f(nullptr), c0f(nullptr), bn(nullptr), rn(nullptr), zn(nullptr), qn(nullptr),
-    xnew(nullptr), comm_vec(nullptr)
+    diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr), c0f(nullptr),
+    bn(nullptr), xnew(nullptr), comm_vec(nullptr), cg(nullptr), along(nullptr), shift(nullptr),
+    shift_new(nullptr)
 {
   if (narg < 4)
     error->all(FLERR,
@@ -238,7 +252,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   air_coefficients();
 
   initialised = 0;
-  time = water0 = out_face = out_edge = rate = 0.0;
+  time = water0 = water = out_face = out_edge = rate = 0.0;
   t_product = t_air;
   nmoves = 0;
   cg_iterations = 0;
@@ -263,6 +277,13 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   dynamic_group_allow = 0;
   create_attribute = 1;
 
+  // the solver's ghost exchange: this fix's forward communication of a node array
+  cg = new CGMS::ColumnCG(world, [this](double *v) {
+    comm_vec = v;
+    comm_mode = MODE_DIRECTION;
+    comm->forward_comm(this, layers);
+  });
+
   FixCGMSTransport::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
   atom->add_callback(Atom::RESTART);
@@ -282,9 +303,13 @@ FixCGMSTransport::~FixCGMSTransport()
   }
   memory->destroy(store);
   memory->destroy(out);
-  for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &pn, &diag, &lower, &piv,
-                     &mul,   &c1, &c0,   &c1f,     &c0f,  &bn, &rn, &zn, &qn,   &xnew})
+  for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &diag, &lower, &c1, &c0, &c1f,
+                     &c0f, &bn, &xnew})
     memory->destroy(*p);
+  delete cg;
+  memory->destroy(shift);
+  memory->destroy(shift_new);
+  memory->destroy(along);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -315,8 +340,7 @@ void FixCGMSTransport::read_params(const char *file)
                        file))) {
     int k = 0;
     while (k < n && p.name != names[k]) k++;
-    if (k == n)
-      error->all(FLERR, "{} line {}: unknown parameter '{}'", where, p.line, p.name);
+    if (k == n) error->all(FLERR, "{} line {}: unknown parameter '{}'", where, p.line, p.name);
     if (!utils::is_double(p.value))
       error->all(FLERR, "{} line {}: '{}' is not a number", where, p.line, p.value);
     *targets[k] = std::stod(p.value);
@@ -465,10 +489,12 @@ void FixCGMSTransport::totals(double &w, double &surf, double &core) const
   core = all[3] > 0.0 ? all[2] / all[3] / x0 : 1.0;
 }
 
+// the global outputs, with the water totals (once per moisture step)
 void FixCGMSTransport::refresh_vector()
 {
-  double w, surf, core;
-  totals(w, surf, core);
+  double surf, core;
+  totals(water, surf, core);
+  const double w = water;
   const double w0 = water0 > 0.0 ? water0 : w;
   vec[0] = time;
   vec[1] = time / 3600.0;
@@ -500,20 +526,20 @@ void FixCGMSTransport::grow_beads()
   nmax_bead = atom->nmax;
   for (double **p : {&rho_s, &dz, &area, &spacing, &edge})
     memory->grow(*p, nmax_bead, "cgms/transport:bead");
-  for (double **p : {&xn, &dn, &pn, &diag, &piv, &c1, &c0, &c1f, &c0f, &bn, &rn, &zn, &qn, &xnew})
+  for (double **p : {&xn, &dn, &diag, &c1, &c0, &c1f, &c0f, &bn, &xnew})
     memory->grow(*p, (bigint) nmax_bead * layers, "cgms/transport:node");
-  for (double **p : {&lower, &mul})
-    memory->grow(*p, (bigint) nmax_bead * MAX(layers - 1, 1), "cgms/transport:column");
+  memory->grow(lower, (bigint) nmax_bead * MAX(layers - 1, 1), "cgms/transport:column");
+  memory->grow(shift, nmax_bead, 2, "cgms/transport:shift");
+  memory->grow(shift_new, nmax_bead, 2, "cgms/transport:shift");
+  memory->grow(along, nmax_bead, 2, "cgms/transport:along");
 }
 
 /* ----------------------------------------------------------------------
    the in-plane finite-volume geometry from the current positions
    (python/cgms/transport.py bead_geometry): neighbours within the cutoff,
-   a = mean neighbour distance, area (sqrt 3 / 2) a^2. The outline is a local
-   stand-in for the outline polygon of the Python side: a bead with N < 6
-   neighbours exposes (6 - N) a / 2 of outline (exact on a straight row of a
-   hexagonal lattice). Then each column's thickness, solid density and layer
-   depth, sent with the moisture to the ghost beads.
+   a = mean neighbour distance, area (sqrt 3 / 2) a^2; the outline (below).
+   Then each column's thickness, solid density and layer depth, sent with the
+   moisture to the ghost beads.
 ------------------------------------------------------------------------- */
 
 void FixCGMSTransport::geometry()
@@ -527,8 +553,10 @@ void FixCGMSTransport::geometry()
   pair_j.clear();
   pair_dist.clear();
   tagint lonely = MAXTAGINT;
+  std::vector<std::pair<double, int>> around;
   for (int i = 0; i < nlocal; i++) {
     pair_start[i] = (int) pair_j.size();
+    around.clear();
     const int *jlist = list->firstneigh[i];
     const int jnum = list->numneigh[i];
     double sum = 0.0;
@@ -540,6 +568,7 @@ void FixCGMSTransport::geometry()
       const double r = sqrt(rsq);
       pair_j.push_back(j);
       pair_dist.push_back(r);
+      around.emplace_back(atan2(-dy, -dx), j);
       sum += r;
     }
     const int count = (int) pair_j.size() - pair_start[i];
@@ -550,7 +579,21 @@ void FixCGMSTransport::geometry()
     }
     spacing[i] = sum / count;
     area[i] = 0.5 * sqrt(3.0) * spacing[i] * spacing[i];
-    edge[i] = (outline && count < 6) ? 0.5 * (6 - count) * spacing[i] : 0.0;
+    // the widest gap between neighbours sorted by angle (the first of equal ones)
+    std::sort(around.begin(), around.end());
+    double widest = -1.0;
+    for (int k = 0; k < count; k++) {
+      const int next = (k + 1) % count;
+      const double gap = around[next].first - around[k].first + (next == 0 ? 2.0 * MY_PI : 0.0);
+      if (gap > widest) {
+        widest = gap;
+        // counter-clockwise along the outline (air on the right): the neighbour where the
+        // open gap starts comes before the bead, the one where it ends after it
+        along[i][0] = around[k].second;
+        along[i][1] = around[next].second;
+      }
+    }
+    if (!outline || widest <= OPEN_GAP) along[i][0] = along[i][1] = -1;
   }
   pair_start[nlocal] = (int) pair_j.size();
   tagint first;
@@ -572,6 +615,8 @@ void FixCGMSTransport::geometry()
                "restart file",
                first);
 
+  outline_edges();
+
   for (int i = 0; i < nlocal; i++) {
     const double s = store[i][layers];
     const double thick = shrink ? store[i][layers + 2] * sqrt(area[i] / store[i][layers + 1])
@@ -583,6 +628,63 @@ void FixCGMSTransport::geometry()
   }
   comm_mode = MODE_STATE;
   comm->forward_comm(this, layers + 2);
+}
+
+/* ----------------------------------------------------------------------
+   the length of outline each local bead exposes to air (edge), found from its
+   own neighbours (python/cgms/transport.py outline_edge, one to one): the two
+   neighbours bounding a bead's open gap (along) are its neighbours along the
+   outline polygon; that polygon smoothed OUTLINE_PASSES times, each vertex to
+   (prev + 2 self + next) / 4 (a lattice outline is a staircase 10 % longer
+   than the curve it follows), a bead's share half of its two edges, offset
+   outwards by a/2 times the turning angle (pi a over a closed outline). The
+   smoothing shifts go to the ghosts after every pass (periodic images keep
+   their own coordinates).
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::outline_edges()
+{
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  double **x = atom->x;
+  for (int i = 0; i < nall; i++) shift[i][0] = shift[i][1] = 0.0;
+  for (int pass = 0; pass < OUTLINE_PASSES; pass++) {
+    for (int i = 0; i < nlocal; i++) {
+      shift_new[i][0] = shift_new[i][1] = 0.0;
+      if (along[i][0] < 0) continue;
+      const int a = along[i][0], b = along[i][1];
+      for (int d = 0; d < 2; d++)
+        shift_new[i][d] =
+            0.25 * (x[a][d] + shift[a][d] + 2.0 * (x[i][d] + shift[i][d]) + x[b][d] + shift[b][d]) -
+            x[i][d];
+    }
+    for (int i = 0; i < nlocal; i++) {
+      shift[i][0] = shift_new[i][0];
+      shift[i][1] = shift_new[i][1];
+    }
+    comm_mode = MODE_SHIFT;
+    comm->forward_comm(this, 2);
+  }
+  for (int i = 0; i < nlocal; i++) {
+    edge[i] = 0.0;
+    if (along[i][0] < 0) continue;
+    const int a = along[i][0], b = along[i][1];
+    double back[2], ahead[2];
+    for (int d = 0; d < 2; d++) {
+      back[d] = x[i][d] + shift[i][d] - x[a][d] - shift[a][d];
+      ahead[d] = x[b][d] + shift[b][d] - x[i][d] - shift[i][d];
+    }
+    const double cross = back[0] * ahead[1] - back[1] * ahead[0];
+    const double dot = back[0] * ahead[0] + back[1] * ahead[1];
+    // the tip of a one-bead chain turns back: +pi (the outline goes round it)
+    const double turn = (cross == 0.0 && dot < 0.0) ? MY_PI : atan2(cross, dot);
+    edge[i] = 0.5 *
+            (sqrt(back[0] * back[0] + back[1] * back[1]) +
+             sqrt(ahead[0] * ahead[0] + ahead[1] * ahead[1])) +
+        0.5 * spacing[i] * turn;
+    // a sharp concave corner cannot take in air
+    edge[i] = MAX(edge[i], 0.0);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -673,8 +775,7 @@ void FixCGMSTransport::move()
   const int nall = nlocal + atom->nghost;
   for (int n = 0; n < nall * layers; n++) dn[n] = diffusivity(xn[n], t_product);
 
-  double before, surf, core;
-  totals(before, surf, core);
+  const double before = water;    // the totals of the last refresh_vector
   assemble(dt);
   cg_iterations = solve();
 
@@ -696,11 +797,10 @@ void FixCGMSTransport::move()
   }
   time += dt;
   nmoves++;
-  double after;
-  totals(after, surf, core);
-  rate = (before - after) / water0 / (dt / 3600.0);
   if (dx_max > 0.0) dt_move = MIN(dt_max, dt * MIN(2.0, dx_max / MAX(change, 1e-12)));
   refresh_vector();
+  rate = (before - water) / water0 / (dt / 3600.0);
+  vec[3] = rate;
 }
 
 /* ----------------------------------------------------------------------
@@ -766,108 +866,40 @@ void FixCGMSTransport::assemble(double dt)
       diag[n] += c1[n];
       bn[n] -= c0[n];
     }
-    // the column block factored once per step: LDL^T of a tridiagonal matrix
-    piv[i * layers] = diag[i * layers];
-    for (int l = 1; l < layers; l++) {
-      const double off = -lower[i * (layers - 1) + l - 1];
-      mul[i * (layers - 1) + l - 1] = off / piv[i * layers + l - 1];
-      piv[i * layers + l] = diag[i * layers + l] - mul[i * (layers - 1) + l - 1] * off;
-    }
   }
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixCGMSTransport::precondition(const double *r, double *z)
-{
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    double *y = &z[i * layers];
-    const double *m = &mul[i * (layers - 1)];
-    for (int l = 0; l < layers; l++) y[l] = r[i * layers + l];
-    for (int l = 1; l < layers; l++) y[l] -= m[l - 1] * y[l - 1];
-    for (int l = 0; l < layers; l++) y[l] /= piv[i * layers + l];
-    for (int l = layers - 2; l >= 0; l--) y[l] -= m[l] * y[l + 1];
-  }
-}
-
-// y = M v over the local nodes; v needs room for the ghosts, which are refreshed here
-void FixCGMSTransport::matvec(double *v, double *y)
-{
-  comm_vec = v;
-  comm_mode = MODE_DIRECTION;
-  comm->forward_comm(this, layers);
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    const double *vi = &v[i * layers];
-    double *yi = &y[i * layers];
-    for (int l = 0; l < layers; l++) yi[l] = diag[i * layers + l] * vi[l];
-    for (int l = 0; l + 1 < layers; l++) {
-      const double g = lower[i * (layers - 1) + l];
-      yi[l] -= g * vi[l + 1];
-      yi[l + 1] -= g * vi[l];
-    }
-    if (inplane)
-      for (int k = pair_start[i]; k < pair_start[i + 1]; k++) {
-        const double *vj = &v[pair_j[k] * layers];
-        const double *g = &pair_g[(size_t) k * layers];
-        for (int l = 0; l < layers; l++) yi[l] -= g[l] * vj[l];
-      }
-  }
+  CGMS::ColumnMatrix matrix;
+  matrix.nlocal = nlocal;
+  matrix.layers = layers;
+  matrix.diag = diag;
+  matrix.lower = lower;
+  matrix.pair_start = pair_start.data();
+  matrix.pair_j = pair_j.data();
+  matrix.pair_g = inplane ? pair_g.data() : nullptr;
+  cg->factor(matrix);
 }
 
 /* ----------------------------------------------------------------------
-   conjugate gradients preconditioned by the columns, started from the
-   column solve of the right-hand side (as python/cgms/transport.py solve);
-   one ghost exchange per iteration. Returns the iterations.
+   the step's linear system solved by CGMS::ColumnCG (cgms_column_cg.cpp);
+   its ghost exchange is this fix's forward communication of a node array.
+   Returns the iterations.
 ------------------------------------------------------------------------- */
 
 int FixCGMSTransport::solve()
 {
-  const int nn = atom->nlocal * layers;
-  auto dot = [&](const double *a, const double *b) {
-    double s = 0.0;
-    for (int n = 0; n < nn; n++) s += a[n] * b[n];
-    return sum_all(s);
-  };
-  const double bnorm = sqrt(dot(bn, bn));
-  precondition(bn, xnew);
-  matvec(xnew, qn);
-  for (int n = 0; n < nn; n++) rn[n] = bn[n] - qn[n];
-  double rnorm = sqrt(dot(rn, rn));
-  const double goal = cg_tol * bnorm;
-  if (rnorm <= goal) return 0;
-  precondition(rn, zn);
-  for (int n = 0; n < nn; n++) pn[n] = zn[n];
-  double rz = dot(rn, zn);
-  int it = 0;
-  while (it < cg_max) {
-    it++;
-    matvec(pn, qn);
-    const double a = rz / dot(pn, qn);
-    for (int n = 0; n < nn; n++) {
-      xnew[n] += a * pn[n];
-      rn[n] -= a * qn[n];
-    }
-    rnorm = sqrt(dot(rn, rn));
-    if (rnorm <= goal) return it;
-    precondition(rn, zn);
-    const double rz_new = dot(rn, zn);
-    const double beta = rz_new / rz;
-    rz = rz_new;
-    for (int n = 0; n < nn; n++) pn[n] = zn[n] + beta * pn[n];
-  }
+  double residual;
+  const int it = cg->solve(bn, xnew, atom->nlocal + atom->nghost, cg_tol, cg_max, residual);
+  if (residual <= cg_tol) return it;
   // also a residual that is not a number: never hand on a NaN moisture field
-  if (!(rnorm <= 1e-8 * bnorm))
+  if (!(residual <= 1e-8))
     error->all(FLERR,
                "Fix cgms/transport: the moisture step did not converge in {} CG "
                "iterations (residual {:.3g} of the right-hand side)",
-               cg_max, rnorm / bnorm);
+               cg_max, residual);
   if (comm->me == 0)
     error->warning(FLERR,
                    "Fix cgms/transport: CG stopped at a residual of {:.3g} of the "
                    "right-hand side (tolerance {:.3g})",
-                   rnorm / bnorm, cg_tol);
+                   residual, cg_tol);
   return it;
 }
 
@@ -882,6 +914,9 @@ int FixCGMSTransport::pack_forward_comm(int n, int *list_send, double *buf, int,
       buf[m++] = rho_s[j];
       buf[m++] = dz[j];
       for (int l = 0; l < layers; l++) buf[m++] = xn[j * layers + l];
+    } else if (comm_mode == MODE_SHIFT) {
+      buf[m++] = shift[j][0];
+      buf[m++] = shift[j][1];
     } else
       for (int l = 0; l < layers; l++) buf[m++] = comm_vec[j * layers + l];
   }
@@ -896,6 +931,9 @@ void FixCGMSTransport::unpack_forward_comm(int n, int first, double *buf)
       rho_s[i] = buf[m++];
       dz[i] = buf[m++];
       for (int l = 0; l < layers; l++) xn[i * layers + l] = buf[m++];
+    } else if (comm_mode == MODE_SHIFT) {
+      shift[i][0] = buf[m++];
+      shift[i][1] = buf[m++];
     } else
       for (int l = 0; l < layers; l++) comm_vec[i * layers + l] = buf[m++];
   }
@@ -1010,7 +1048,7 @@ int FixCGMSTransport::maxsize_restart()
 double FixCGMSTransport::memory_usage()
 {
   return sizeof(double) *
-      ((double) atom->nmax * (nstore + 4) + 5.0 * nmax_bead + 17.0 * nmax_bead * layers +
+      ((double) atom->nmax * (nstore + 4) + 9.0 * nmax_bead + 14.0 * nmax_bead * layers +
        (double) pair_g.size() + (double) pair_dist.size()) +
       sizeof(int) * ((double) pair_j.size() + pair_start.size());
 }

@@ -13,6 +13,9 @@
 #include <vector>
 
 namespace LAMMPS_NS {
+namespace CGMS {
+  class ColumnCG;
+}
 
 // Time-domain drying: moisture transport through a tissue slice and out into
 // the air (doc/drying.md, doc/fix_cgms_transport.rst). Every bead carries a
@@ -71,6 +74,7 @@ class FixCGMSTransport : public Fix {
   // state of the run (global, in the restart file)
   int initialised;
   double time, water0, out_face, out_edge, rate, t_product;
+  double water;    // water in the tissue at the last refresh_vector (kg)
   bigint nmoves;
   int cg_iterations;
   double vec[14];    // the global outputs, refreshed after every moisture step
@@ -84,9 +88,12 @@ class FixCGMSTransport : public Fix {
   // per bead, local and ghost, rebuilt every moisture step
   int nmax_bead;
   double *rho_s, *dz, *area, *spacing, *edge;
-  double *xn, *dn, *pn;    // node moisture, diffusivity, CG direction (layers per bead)
-  double *diag, *lower, *piv, *mul, *c1, *c0, *c1f, *c0f, *bn, *rn, *zn, *qn, *xnew;
-  double *comm_vec;                       // the node array MODE_DIRECTION sends
+  double *xn, *dn;    // node moisture and diffusivity (layers per bead)
+  double *diag, *lower, *c1, *c0, *c1f, *c0f, *bn, *xnew;    // the step's system
+  double *comm_vec;                                          // the node array MODE_DIRECTION sends
+  CGMS::ColumnCG *cg;                                        // its solver
+  int **along;                            // an outline bead's neighbours before and after it
+  double **shift, **shift_new;            // the smoothing of the outline polygon
   std::vector<int> pair_start, pair_j;    // in-plane neighbours of each local bead
   std::vector<double> pair_dist;          // their centre distance
   std::vector<double> pair_g;             // their conductance per layer
@@ -99,6 +106,7 @@ class FixCGMSTransport : public Fix {
   void initialise_columns();
   void grow_beads();
   void geometry();
+  void outline_edges();
   double diffusivity(double, double) const;
   void surface_law(double, double, double, double &, double &) const;
   double product_temperature();
@@ -106,8 +114,6 @@ class FixCGMSTransport : public Fix {
   void move();
   void assemble(double);
   int solve();
-  void matvec(double *, double *);
-  void precondition(const double *, double *);
   double sum_all(double) const;
   void totals(double &, double &, double &) const;
   void refresh_vector();
