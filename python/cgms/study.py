@@ -119,7 +119,10 @@ def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, *
         note = "FIRE reached its iteration limit"
     except LammpsError as err:
         note = err.reason
-    kwargs.update(FALLBACK)
+    # the user's steady-state thresholds hold for the fallback too; only its step cap is
+    # the dynamics' own (FIRE's iteration cap would stop it long before steady state)
+    steady = dict(kwargs.get("steady") or {}, **FALLBACK["steady"])
+    kwargs.update(FALLBACK, steady=steady)
     return relax(data, material, dryness, Path(out) / FALLBACK_FOLDER, **kwargs), note
 
 
