@@ -100,3 +100,27 @@ def test_calibrated_reproduces_the_rmsd_in_its_header(rmsds):
     assert {float(s) for _, s in quoted} == fitted_levels()
     for r, s in quoted:
         assert rmsds["apple-mfc", float(s)] == pytest.approx(float(r), rel=1e-3), s
+
+
+def test_cgms_study_reaches_the_fitted_states_with_the_fallback(tmp_path, capsys, monkeypatch):
+    """``cgms study --fallback dynamics`` on the 86-bead tissue: FIRE stops at s = 0.6 with
+    this file, the dynamics solves the level, the table says so, and the state is the
+    fit's (the RMSD against the MFC that the header quotes); a level outside the file's
+    range (0.6 <= s <= 1) is named and not run."""
+    require_lammps()
+    from cgmstest import run_cli
+    monkeypatch.chdir(tmp_path)
+    status, err, out = run_cli(capsys, "study", "--material", str(MFC_MATERIAL), "--width",
+                               "1.25", "--height", "1.5", "--dryness", "1,0.6,0.3",
+                               "--fallback", "dynamics", "--out", "d")
+    assert status == 0, err
+    assert "s = 0.3 not run: apple-mfc.cgms is valid for 0.6 <= s <= 1 only" in out
+    marked = [line.split()[2] for line in out.splitlines() if line.endswith("yes (dynamics)")]
+    assert marked == ["0.60"], out
+    folder = tmp_path / "d" / "tissue"
+    assert not (folder / "level.s0.3.json").exists()
+    ids, q = positions.read_centroids(MFC_REFERENCE / "centroids.s0.6.txt")
+    xy = np.load(folder / "level.s0.6.npy")
+    quoted = dict((float(s), float(r)) for r, s in re.findall(
+        r"([0-9.eE+-]+)\s+m\s+\([0-9.eE+-]+\s+x_ref\)\s+at\s+s\s+=\s+([0-9.]+)", header_text()))
+    assert superpose.rmsd(xy, q[np.argsort(ids)], "rigid") == pytest.approx(quoted[0.6], rel=1e-3)

@@ -8,16 +8,18 @@ Most cases stop before LAMMPS runs. Those that need finished levels use cgmstest
 stand-in for study.relax (the ``fake`` fixture), so the folder logic is tested without
 LAMMPS."""
 
+import csv
 import errno
 import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
 from cgms import folders, material, study, tissue
-from cgmstest import APPLE, ROOT, XREF, reached, run_cli
+from cgmstest import APPLE, ROOT, XREF, fake_relax, reached, run_cli
 
 SMALL = ["--width", "0.6", "--height", "0.6"]
 
@@ -314,3 +316,90 @@ def test_python_material_rules_are_the_plugins():
     ranges = {"POSITIVE": "> 0", "NONNEGATIVE": ">= 0", "NEGATIVE": "< 0", "ANY": "finite"}
     plugin = {name: (ranges[r], req == "true") for name, r, req in rows}
     assert plugin == material.PARAMETERS
+
+
+# --------------------------------------------------------------------------- --fallback
+
+FIRE_STOP = ("ERROR: Fix cgms/fluid: bead 20 has no neighbour within the pair cutoff "
+             "(the minimizer moved it away from the tissue)")
+
+
+def fire_stops_when_dry(data, material_file, dryness, out, **kwargs):
+    """fake_relax, except that the quasi-static solve stops below s = 0.5, as FIRE does
+    with apple-mfc.cgms at s = 0.6 (doc/calibration.md)."""
+    if kwargs.get("method") == "quasistatic" and dryness < 0.5:
+        raise study.LammpsError(dryness, FIRE_STOP, Path(out) / "log.lammps")
+    return fake_relax(data, material_file, dryness, out, **kwargs)
+
+
+def test_fallback_is_recorded_marked_and_read_back(fake, capsys, monkeypatch):
+    """--fallback dynamics: the level FIRE cannot solve is the dynamics' (its dump in
+    tissue/dynamics/, which the pictures find), the table and the CSV say so per level,
+    sweep.json records the option (a resume without it is refused) and a resume reads the
+    marks back without running anything."""
+    monkeypatch.setattr(study, "relax", fire_stops_when_dry)
+    base = ["study", *SMALL, "--dryness", "1,0.3", "--out", "d"]
+    status, err, _ = run_cli(capsys, *base)
+    assert status == 1 and FIRE_STOP in err and "--fallback dynamics retries" in err
+    status, err, out = run_cli(capsys, *base[:-1], "e", "--fallback", "dynamics")
+    assert status == 0, err
+    rows = {line.split()[2]: line.split()[8:] for line in out.splitlines()
+            if line.startswith("  tissue ") and line.split()[1].isdigit()}
+    assert rows == {"1.00": ["yes"], "0.30": ["yes", "(dynamics)"]}, out
+    assert "the steady state is the dynamics'" in out
+    folder = fake / "e/tissue"
+    assert json.loads((folder / "sweep.json").read_text())["fallback"] == "dynamics"
+    level = json.loads((folder / "level.s0.3.json").read_text())
+    assert level["fallback"] == FIRE_STOP and level["method"] == "dynamics"
+    assert json.loads((folder / "level.s1.json").read_text())["fallback"] == ""
+    assert (folder / "dynamics/tissue.s0.3.dump").exists()
+    assert (folder / "cells-pressure.png").exists()
+    with open(next(folder.parent.glob("summary-*.csv"))) as fh:
+        table = {r["s"]: r for r in csv.DictReader(fh)}
+    assert table["0.3"]["fallback"] == FIRE_STOP and table["1.0"]["fallback"] == ""
+    # a resume must use the same option ...
+    status, err, _ = run_cli(capsys, *base[:-1], "e", "--resume")
+    assert status == 1 and "another setup" in err and "fallback" in err, err
+    # ... and then reads the levels back, marks included, running nothing
+    monkeypatch.setattr(study, "relax", lambda *a, **k: pytest.fail("level run again"))
+    status, err, again = run_cli(capsys, *base[:-1], "e", "--resume", "--fallback", "dynamics")
+    assert status == 0, err
+    assert [line for line in again.splitlines() if "(dynamics)" in line] == \
+        [line for line in out.splitlines() if "(dynamics)" in line]
+
+
+def test_main_lists_the_fallback_dumps(fake, capsys, monkeypatch):
+    from cgms import pictures
+    monkeypatch.setattr(study, "relax", fire_stops_when_dry)
+    monkeypatch.setattr(pictures, "study_pictures", lambda out: [])   # tested above; slow
+    status, err, out = run_cli(capsys, "main", "--dryness", "1,0.3", "--fallback", "dynamics",
+                               "--out", "m")
+    assert status == 0, err
+    assert "levels marked (dynamics): dump and log in m/*/dynamics/" in out, out
+    assert len(list(fake.glob("m/*/dynamics/tissue.s0.3.dump"))) == 6
+
+
+def test_fallback_needs_a_quasistatic_method(fake, capsys):
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--method", "dynamics", "--fallback",
+                             "dynamics", "--out", "d")
+    assert status == 2 and "--fallback dynamics needs --method quasistatic or newton" in err
+    assert listing(fake) == []
+
+
+def test_levels_outside_the_materials_range_are_named_not_run(fake, capsys):
+    """A calibrated material says in its header for which levels it holds ('VALID FOR
+    0.6 <= s <= 1', apple-mfc.cgms): other levels are named in one line and not run."""
+    limited = fake / "limited.cgms"
+    limited.write_text(Path(APPLE).read_text() + "# fitted at three levels: VALID FOR\n"
+                                           "# 0.6 <= s <= 1 ONLY.\n")
+    assert study.valid_range(limited) == (0.6, 1.0) and study.valid_range(APPLE) == (0, 1)
+    common = ["study", *SMALL, "--material", str(limited)]
+    status, err, out = run_cli(capsys, *common, "--dryness", "1,0.6,0.3", "--out", "d")
+    assert status == 0, err
+    assert ("cgms: s = 0.3 not run: limited.cgms is valid for 0.6 <= s <= 1 only "
+            "(its header)") in out
+    assert sorted(p.name for p in (fake / "d/tissue").glob("level.*.json")) == \
+        ["level.s0.6.json", "level.s1.json"]
+    assert "0.30" not in "".join(line[:30] for line in out.splitlines())
+    status, err, _ = run_cli(capsys, *common, "--dryness", "0.4,0.3", "--out", "e")
+    assert status == 2 and "no level to run" in err and not (fake / "e").exists()

@@ -203,3 +203,23 @@ def test_a_run_whose_neighbour_list_grows_gets_the_forces_of_a_first_run(small_t
     assert np.abs(want).max() > 0
     assert np.abs(after - want).max() <= 1e-12 * np.abs(want).max()
     assert energy == pytest.approx(want_energy, rel=1e-12)
+
+
+def test_fallback_keeps_the_users_steady_thresholds(monkeypatch, tmp_path):
+    """The dynamics fallback replaces the method, time step and step cap, not the user's
+    --residual and --speed (it once ran with the defaults whatever was asked)."""
+    calls = []
+
+    def relax(data, material, dryness, out, **kwargs):
+        calls.append(kwargs)
+        if kwargs["method"] != "dynamics":
+            raise study.LammpsError(dryness, "ERROR: Out of range atoms", None)
+        return dict(converged=True)
+
+    monkeypatch.setattr(study, "relax", relax)
+    steady = dict(residual=2e-4, speed=5e-4, max_steps=1000)
+    result, note = study.relax_or_fallback("t.data", "m.cgms", 0.6, tmp_path, steady=steady)
+    assert note == "ERROR: Out of range atoms" and result["converged"]
+    assert calls[0]["steady"] == steady
+    assert calls[1]["method"] == "dynamics" and calls[1]["dt"] == study.FALLBACK["dt"]
+    assert calls[1]["steady"] == dict(steady, max_steps=study.FALLBACK["steady"]["max_steps"])

@@ -138,11 +138,18 @@ def dry(out, name, t, mat_file, mat, levels, args):
     data = write_tissue(folder, t, mat)
     n = len(t["xy"])
     print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
-    results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
-                          diameters=t["diameters"] is not None, method=args.method,
-                          overrides=args.set,
-                          steady=dict(residual=args.residual, speed=args.speed,
-                                      max_steps=args.max_steps))
+    try:
+        results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
+                              fallback=args.fallback, diameters=t["diameters"] is not None,
+                              method=args.method, overrides=args.set,
+                              steady=dict(residual=args.residual, speed=args.speed,
+                                          max_steps=args.max_steps))
+    except study.LammpsError as err:
+        if args.fallback or args.method == "dynamics":
+            raise
+        raise study.LammpsError(err.dryness, f"{err.reason} (--fallback dynamics retries a "
+                                "level the quasi-static solve stops with the dynamics)",
+                                err.log) from err
     rows = study.table(results)
     for r in rows:
         r["tissue"] = name
@@ -157,11 +164,43 @@ def print_table(rows):
     for r in rows:
         print(f"  {r['tissue']:12s} {r['beads']:6d}  {r['s']:4.2f}  {r['X/X0']:.4f}  "
               f"{r['A/A0']:.4f}  {r['P/P0']:.4f}  {r['EL/EL0']:.4f}  {r['steps']:6d}  "
-              f"{'yes' if r['converged'] else 'NO'}")
+              f"{'yes' if r['converged'] else 'NO'}"
+              f"{f' ({study.FALLBACK_FOLDER})' if r.get('fallback') else ''}")
     print("  * time steps (dynamics) or minimiser iterations (quasistatic)")
+    if any(r.get("fallback") for r in rows):
+        print(f"  ({study.FALLBACK_FOLDER}): the quasi-static solve stopped or did not "
+              f"converge; the steady state is the dynamics' at dt = {study.FALLBACK['dt']:g} s "
+              f"(in <tissue>/{study.FALLBACK_FOLDER}/; why: the CSV's fallback column)")
     if any(not r["converged"] and r["method"] == "quasistatic" for r in rows):
         print("  The quasi-static solve (FIRE) can stall where the potential is not convex "
               "(large dried tissues: doc/validation.md); try --method newton or dynamics.")
+
+
+def levels_in_range(args, mat_file):
+    """(levels to run, a line naming those left out or ''): the levels of --dryness that
+    the material file is valid for (its 'VALID FOR lo <= s <= hi' comment). UsageError
+    when none is left, or for a --fallback with nothing to fall back from."""
+    if args.fallback and args.method == "dynamics":
+        raise UsageError(f"--fallback {args.fallback} needs --method quasistatic or newton: "
+                         "the dynamics has nothing to fall back to")
+    lo, hi = study.valid_range(mat_file)
+    kept = [s for s in args.dryness if lo <= s <= hi]
+    if len(kept) == len(args.dryness):
+        return kept, ""
+    outside = ", ".join(f"{s:g}" for s in args.dryness if s not in kept)
+    why = f"{mat_file.name} is valid for {lo:g} <= s <= {hi:g} only (its header)"
+    if not kept:
+        raise UsageError(f"--dryness {outside}: {why}; no level to run")
+    return kept, f"cgms: s = {outside} not run: {why}"
+
+
+def fallback_files(out, rows):
+    """Where the levels the fallback solved keep their dumps and logs (for the list of
+    files a study prints), or '' when there are none."""
+    if not any(r.get("fallback") for r in rows):
+        return ""
+    return (f"; levels marked ({study.FALLBACK_FOLDER}): dump and log in "
+            f"{out}/*/{study.FALLBACK_FOLDER}/")
 
 
 def write_summary(rows, out):
@@ -175,28 +214,34 @@ def main_job(args):
     """The microscale study: the calibration tissue and the paper's five microscale
     tissues, each dried to steady state at every level."""
     mat_file, mat = material_of(args)
+    kept, left_out = levels_in_range(args, mat_file)
     tissues = {name: rectangle_tissue(w, h, mat, args.cv, args.seed)
                for name, (w, h) in MICROSCALE.items()}
     with folders.claim(args.out, "microscale", args.resume) as out:
         print(f"cgms: microscale study, material {mat_file.name}, levels {args.dryness}; "
               f"results in {out}", flush=True)
+        if left_out:
+            print(left_out, flush=True)
         rows = []
         for name, t in tissues.items():
-            rows += dry(out, name, t, mat_file, mat, args.dryness, args)
+            rows += dry(out, name, t, mat_file, mat, kept, args)
         write_summary(rows, out)
         print_table(rows)
         pictures.study_pictures(out)
         print(f"\ncgms: table {out}/summary-*.csv; plots {out}/curves-all.png, */curves.png, "
               f"*/cells-pressure.png, */cells-shrinkage.png; dumps (OVITO) "
-              f"{out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps")
+              f"{out}/*/tissue.s*.dump; logs {out}/*/log.*.lammps{fallback_files(out, rows)}")
     return 0
 
 
 def study_job(args):
     mat_file, mat = material_of(args)
+    kept, left_out = levels_in_range(args, mat_file)
     t = chosen_tissue(args, mat)
     with folders.claim(args.out, "study", args.resume) as out:
-        rows = dry(out, "tissue", t, mat_file, mat, args.dryness, args)
+        if left_out:
+            print(left_out, flush=True)
+        rows = dry(out, "tissue", t, mat_file, mat, kept, args)
         write_summary(rows, out)
         print_table(rows)
         pictures.study_pictures(out)
@@ -607,6 +652,11 @@ def sweep_arguments(q):
     q.add_argument("--dryness", type=levels, default=DEFAULT_LEVELS,
                    help=f"levels (default {DEFAULT_LEVELS})")
     q.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
+    q.add_argument("--fallback", choices=study.FALLBACKS,
+                   help="where the quasi-static solve (FIRE or Newton) stops or does not "
+                        "converge, follow the dynamics instead (dt = "
+                        f"{study.FALLBACK['dt']:g} s; log and dump in <tissue>/"
+                        f"{study.FALLBACK_FOLDER}/; the table marks those levels)")
 
 
 def main_arguments(q):

@@ -253,7 +253,7 @@ def _levels(folder):
 def _field(folder, result, field, fresh, cells):
     """One level's values of ``field``: local shrinkage from the fresh level, or a column
     of the level's final dump; and the cell sides (the dump's ``side``) for hexagons."""
-    dump = Path(folder) / f"tissue.{study.level_name(result['dryness'])}.dump"
+    dump = study.dump_file(folder, result)
     names = {field} - {"shrinkage"} | ({"side"} if cells == "hexagon" else set())
     frame = morphology.read_dump(dump, columns=sorted(names))[-1]
     if not np.allclose(frame["xy"], result["xy"], rtol=0, atol=1e-9):

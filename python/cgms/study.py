@@ -11,6 +11,7 @@ defines the results (tissue, material, method, options), and a resume with anoth
 is refused rather than mixed. Nothing existing is overwritten."""
 
 import hashlib
+import re
 import time
 from pathlib import Path
 
@@ -23,6 +24,10 @@ LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3)
 #: half the paper's time step (extreme settings crowd beads to 8 neighbours; dt = 5e-8 s
 #: keeps the damping inside its stability limit)
 FALLBACK = dict(method="dynamics", dt=5e-8, steady=dict(max_steps=4000000))
+#: the sub-folder of a level's folder that holds the fallback's log and dump
+FALLBACK_FOLDER = "dynamics"
+#: the values of :func:`sweep`'s ``fallback``: what follows where the quasi-static solve stops
+FALLBACKS = ("dynamics",)
 
 
 class LammpsError(RuntimeError):
@@ -114,23 +119,37 @@ def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, *
         note = "FIRE reached its iteration limit"
     except LammpsError as err:
         note = err.reason
-    kwargs.update(FALLBACK)
-    return relax(data, material, dryness, Path(out) / "dynamics", **kwargs), note
+    # the user's steady-state thresholds hold for the fallback too; only its step cap is
+    # the dynamics' own (FIRE's iteration cap would stop it long before steady state)
+    steady = dict(kwargs.get("steady") or {}, **FALLBACK["steady"])
+    kwargs.update(FALLBACK, steady=steady)
+    return relax(data, material, dryness, Path(out) / FALLBACK_FOLDER, **kwargs), note
 
 
 def sha256(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def sweep(data, material, out, levels=LEVELS, progress=True, **kwargs):
+def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, **kwargs):
     """:func:`relax` at every level, resuming: a level whose result file exists in ``out``
     is read back, not run again. ``out/sweep.json`` records the tissue, the material and
-    the options (``kwargs``); a folder with another record is refused (FolderError).
+    the options (``kwargs``, and ``fallback`` when given); a folder with another record is
+    refused (FolderError). ``fallback="dynamics"``: where the quasi-static solve stops or
+    does not converge, follow the dynamics instead (:func:`relax_or_fallback`); every
+    result then has ``fallback``, why it ran ("" where it did not), and a level the
+    fallback solved has its log and dump in ``out/dynamics`` (:func:`dump_file`).
     Returns the results in level order."""
+    if fallback not in (None, *FALLBACKS):
+        raise ValueError(f"fallback must be one of {', '.join(FALLBACKS)}, not {fallback!r}")
+    if fallback and kwargs.get("method", "dynamics") == "dynamics":
+        raise ValueError("a fallback to the dynamics needs a quasi-static method "
+                         "(quasistatic or newton): the dynamics has none to fall back to")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     setup = dict(data_sha256=sha256(data), material_sha256=sha256(material_file.find(material)),
                  **{k: kwargs[k] for k in sorted(kwargs)})
+    if fallback:
+        setup["fallback"] = fallback    # only when given: folders of before read the same
     folders.same_setup(out / "sweep.json", setup)
     results = []
     bar = _progress(levels, progress)
@@ -141,7 +160,13 @@ def sweep(data, material, out, levels=LEVELS, progress=True, **kwargs):
             result = folders.read_json(done)
             result["xy"] = folders.read_npy(positions)
         else:
-            result = relax(data, material, s, out, **kwargs)
+            if fallback:
+                start = time.perf_counter()
+                result, note = relax_or_fallback(data, material, s, out, **kwargs)
+                # the level's time: the solve that stopped and the dynamics after it
+                result.update(fallback=note, seconds=time.perf_counter() - start)
+            else:
+                result = relax(data, material, s, out, **kwargs)
             folders.write_npy(positions, result["xy"])    # first: the .json says it is done
             folders.write_json(done, {k: v for k, v in result.items() if k != "xy"})
         results.append(result)
@@ -150,9 +175,31 @@ def sweep(data, material, out, levels=LEVELS, progress=True, **kwargs):
     return results
 
 
+def dump_file(folder, result):
+    """The final dump of a level of :func:`sweep` in ``folder``: in ``folder/dynamics``
+    where the fallback solved it."""
+    where = Path(folder) / FALLBACK_FOLDER if result.get("fallback") else Path(folder)
+    return where / f"tissue.{level_name(result['dryness'])}.dump"
+
+
+#: the words of a material file's comments that give the levels it holds for
+#: ("VALID FOR 0.6 <= s <= 1", calibrated files; may run over two comment lines)
+VALID_RANGE = re.compile(r"VALID\s+FOR\s+([0-9.eE+-]+)\s*<=\s*s\s*<=\s*([0-9.eE+-]+)")
+
+
+def valid_range(material):
+    """``(lo, hi)``: the levels s a material file says it is valid for, in its comments
+    (``VALID FOR lo <= s <= hi``; doc/calibration.md), else ``(0, 1)``: every level."""
+    text = material_file.find(material).read_text()
+    comments = " ".join(line.split("#", 1)[1] for line in text.splitlines() if "#" in line)
+    found = VALID_RANGE.search(comments)
+    return (float(found.group(1)), float(found.group(2))) if found else (0.0, 1.0)
+
+
 def table(results):
     """Rows of X/X0 reached, A/A0, P/P0, EL/EL0 (normalised by the s = 1 steady state, or the
-    wettest level), steps and wall time, one per level."""
+    wettest level), steps and wall time, one per level; and, for a sweep with a fallback,
+    why the fallback solved the level ("" where it did not)."""
     shapes = [morphology.measures(r["xy"]) for r in results]
     fresh = shapes[int(np.argmax([r["dryness"] for r in results]))]
     rows = []
@@ -163,6 +210,8 @@ def table(results):
                      "steps": r["steps"], "residual": r["residual"], "speed": r["speed"],
                      "method": r.get("method", "dynamics"), "converged": r["converged"],
                      "seconds": r["seconds"]})
+        if any("fallback" in q for q in results):
+            rows[-1]["fallback"] = r.get("fallback", "")
     return rows
 
 
