@@ -52,6 +52,28 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullp
 }
 
 /* ----------------------------------------------------------------------
+   a restart file holds each bead as one record of doubles in the layout of
+   the build that wrote it; one written with another layout of the row (it
+   held 14 columns before the 8-column state row) would be read shifted,
+   without a sign. Each record must have the length this build writes, plus
+   at most the per-atom values the file's fixes declared.
+------------------------------------------------------------------------- */
+
+int AtomVecCGMS::unpack_restart(double *buf)
+{
+  // the record's length, x (3), tag, type, mask, image, v (3), rmass, the row
+  constexpr int OWN = 1 + 10 + 1 + CGMS::NSTATE;
+  const int length = static_cast<int>(buf[0]);
+  if ((length < OWN) || (length > OWN + atom->nextra_store))
+    error->one(FLERR,
+               "Restart file has {} values per bead where atom_style cgms reads {} (+ up to {} "
+               "of fixes): it was written by another CGMS version. Read it with that version "
+               "and write_data; a data file keeps the bead state across versions",
+               length, OWN, atom->nextra_store);
+  return AtomVec::unpack_restart(buf);
+}
+
+/* ----------------------------------------------------------------------
    read_data can hand a data-file section only to a fix that exists before
    the box, and LAMMPS allows that only for fix property/atom: define one that
    receives the fluid state section (read_data file fix CGMS NULL CGMS).

@@ -24,6 +24,7 @@ class AtomVecCGMS : public AtomVec {
   void init() override;
   void grow_pointers() override;
   void create_atom_post(int) override;
+  int unpack_restart(double *) override;
   void data_atom_post(int) override;
   int property_atom(const std::string &) override;
   void pack_property_atom(int, double *, int, int) override;
