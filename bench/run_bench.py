@@ -389,28 +389,36 @@ def annotate(path, inclusive, events=("Ir",)):
     return res, text
 
 
+def run_callgrind(args, out, name, data, inp, common, options, meta, key):
+    """Run one bench input under callgrind (with ``options``), collecting only inside
+    Verlet::run, the timed MD loop (no start-up, no set-up); the command goes into
+    ``meta[key]``. Returns the output file ``out/<name>.out``."""
+    cgout = out / f"{name}.out"
+    var = dict(common, data=str(data), steps=str(args.cg_steps))
+    if args.cg_plugin:
+        var["plugin"] = str(Path(args.cg_plugin).resolve())
+    cmd = ["valgrind", "--tool=callgrind", "--toggle-collect=*Verlet::run*", *options,
+           f"--callgrind-out-file={cgout}"]
+    cmd += lmp_command(args, 1) + ["-in", str(HERE / inp), "-log", "none", "-screen", "none"]
+    for k, v in var.items():
+        cmd += ["-var", k, v]
+    meta[key] = " ".join(cmd)
+    print("running:", " ".join(cmd), flush=True)
+    res = subprocess.run(cmd, env=child_env(), cwd=out, capture_output=True, text=True)
+    (out / f"{name}.stderr").write_text(res.stderr)
+    if res.returncode != 0:
+        sys.exit(f"valgrind run {name} failed:\n{res.stderr[-3000:]}")
+    return cgout
+
+
 def callgrind(args, mat, common, out, meta):
     ncols, nrows = args.cg_size
     n, data_a, data_b = write_tissue(out, ncols, nrows, args.spacing_m, mat["x_ref"])
     rows = []
     report = []
     for case, data, inp in (("A", data_a, "in.cgms"), ("B", data_b, "in.ljcut")):
-        cgout = out / f"callgrind.{case}.out"
-        var = dict(common, data=str(data), steps=str(args.cg_steps))
-        if args.cg_plugin:
-            var["plugin"] = str(Path(args.cg_plugin).resolve())
-        # collect only inside Verlet::run, the timed MD loop: no start-up, no set-up
-        cmd = ["valgrind", "--tool=callgrind", "--toggle-collect=*Verlet::run*",
-               f"--callgrind-out-file={cgout}"]
-        cmd += lmp_command(args, 1) + ["-in", str(HERE / inp), "-log", "none", "-screen", "none"]
-        for k, v in var.items():
-            cmd += ["-var", k, v]
-        meta[f"callgrind_command_{case}"] = " ".join(cmd)
-        print("running:", " ".join(cmd), flush=True)
-        res = subprocess.run(cmd, env=child_env(), cwd=out, capture_output=True, text=True)
-        (out / f"callgrind.{case}.stderr").write_text(res.stderr)
-        if res.returncode != 0:
-            sys.exit(f"valgrind run {case} failed:\n{res.stderr[-3000:]}")
+        cgout = run_callgrind(args, out, f"callgrind.{case}", data, inp, common, [], meta,
+                              f"callgrind_command_{case}")
         incl, text_i = annotate(cgout, True)
         excl, text_e = annotate(cgout, False)
         (out / f"callgrind.{case}.inclusive.txt").write_text(text_i)
@@ -477,22 +485,9 @@ def cache_profile(args, mat, common, out, meta):
     n, data_a, data_b = write_tissue(out, ncols, nrows, args.spacing_m, mat["x_ref"])
     rows = []
     for case, data, inp in (("A", data_a, "in.cgms"), ("B", data_b, "in.ljcut")):
-        cgout = out / f"cachegrind.{case}.out"
-        var = dict(common, data=str(data), steps=str(args.cg_steps))
-        if args.cg_plugin:
-            var["plugin"] = str(Path(args.cg_plugin).resolve())
-        cmd = ["valgrind", "--tool=callgrind", "--toggle-collect=*Verlet::run*",
-               "--cache-sim=yes", "--D1=32768,8,64", f"--LL={args.cg_ll},16,64",
-               f"--callgrind-out-file={cgout}"]
-        cmd += lmp_command(args, 1) + ["-in", str(HERE / inp), "-log", "none", "-screen", "none"]
-        for k, v in var.items():
-            cmd += ["-var", k, v]
-        meta[f"cache_command_{case}"] = " ".join(cmd)
-        print("running:", " ".join(cmd), flush=True)
-        res = subprocess.run(cmd, env=child_env(), cwd=out, capture_output=True, text=True)
-        (out / f"cachegrind.{case}.stderr").write_text(res.stderr)
-        if res.returncode != 0:
-            sys.exit(f"valgrind run {case} failed:\n{res.stderr[-3000:]}")
+        cache = ["--cache-sim=yes", "--D1=32768,8,64", f"--LL={args.cg_ll},16,64"]
+        cgout = run_callgrind(args, out, f"cachegrind.{case}", data, inp, common, cache, meta,
+                              f"cache_command_{case}")
         excl, text = annotate(cgout, False, CACHE_EVENTS)
         (out / f"cachegrind.{case}.self.txt").write_text(text)
         groups = {name: [0, 0, 0] for name, _ in CACHE_GROUPS}
