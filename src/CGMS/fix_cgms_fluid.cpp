@@ -17,6 +17,7 @@
 #include "memory.h"
 #include "min.h"
 #include "modify.h"
+#include "my_page.h"
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "output.h"
@@ -35,6 +36,23 @@ using namespace CGMS;
 using MathConst::MY_PI;
 
 static const double SQRT3 = sqrt(3.0);
+
+/* ----------------------------------------------------------------------
+   entries a neighbour list holds since its last build: each thread's page
+   counts what it stored and every build resets it (a copy list shares its
+   parent's pages); a list without pages is counted bead by bead
+------------------------------------------------------------------------- */
+
+static bigint list_entries(const NeighList *list, int nthreads)
+{
+  bigint n = 0;
+  if (list->ipage) {
+    for (int t = 0; t < nthreads; t++) n += list->ipage[t].ndatum;
+  } else {
+    for (int ii = 0; ii < list->inum; ii++) n += list->numneigh[list->ilist[ii]];
+  }
+  return n;
+}
 static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
 
 // 1 / (sqrt(3) N) of eqn (10) for the neighbour counts that occur: a lookup
@@ -812,12 +830,11 @@ void FixCGMSFluid::geometry_pass()
     memory->destroy(coef);
     memory->create(coef, nmax_bead, "cgms/fluid:coef");
   }
-  // the list's length, counted every pass: neighbor->ncalls cannot tell one build from
+  // the list's length, read every pass: neighbor->ncalls cannot tell one build from
   // another (Verlet and Min set it to 0 after their setup build, so the builds of
   // consecutive runs, e.g. the 'run 0' of every Newton force evaluation, repeat its values)
   // and a list that grows between runs would overrun rdist
-  bigint npairs = 0;
-  for (int ii = 0; ii < list->inum; ii++) npairs += list->numneigh[list->ilist[ii]];
+  const bigint npairs = list_entries(list, comm->nthreads);
   if (npairs > rdist_size) {
     rdist_size = npairs + npairs / 4;
     memory->destroy(rdist);
