@@ -85,7 +85,7 @@ class Mechanics:
         at = next(k for k, ln in enumerate(lines) if ln.startswith("pair_style"))
         lines[at:at] = ["fix sdry all property/atom d_sdry d_xsurf d_xcore",
                         "variable sdry atom d_sdry"]
-        lines += ["min_style fire", "min_modify norm max dmax 1e-6"]
+        lines += run.FIRE_SETTINGS
         self.lmp.commands_string("\n".join(lines) + "\n")
         self.n = self.lmp.get_natoms()
 

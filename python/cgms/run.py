@@ -10,6 +10,16 @@ import numpy as np
 
 STEADY_DEFAULTS = dict(residual=1e-3, speed=1e-3, every=1000, max_steps=300000)
 
+#: the quasi-static solve's minimiser: FIRE with a step cap. dmax: LAMMPS measures it in
+#: length units, 0.1 m by default; a cell is 1.5e-4 m
+FIRE_SETTINGS = ["min_style fire", "min_modify norm max dmax 1e-6"]
+
+
+def fire_commands(ftol, iterations):
+    """The LAMMPS commands of one FIRE solve to the force tolerance ``ftol`` (N)."""
+    return FIRE_SETTINGS + [f"minimize 0.0 {ftol} {iterations} {10 * iterations}"]
+
+
 # per-bead columns written to dumps, named for OVITO and cgms.morphology.read_dump
 DUMP_FIELDS = ["mf", "rho", "pressure", "nneigh", "side", "area", "perim", "dmdt", "dryness"]
 
@@ -102,9 +112,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         lines += [f"dump traj all custom {dump_every} {dump}.traj {columns}",
                   f"dump_modify traj sort id {names}"]
     if method == "quasistatic":
-        # dmax: LAMMPS measures it in length units, 0.1 m by default; a cell is 1.5e-4 m
-        lines += ["min_style fire", "min_modify norm max dmax 1e-6",
-                  f"minimize 0.0 {ftol} {st['max_steps']} {10 * st['max_steps']}"]
+        lines += fire_commands(ftol, st["max_steps"])
     elif method == "newton":
         return "\n".join(lines + ["run 0"]) + "\n"
     elif method == "dynamics":

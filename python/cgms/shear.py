@@ -243,8 +243,7 @@ def cgms_relax(lmp, ftol=CGMS_FTOL, iterations=CGMS_ITERATIONS):
     """FIRE (the quasi-static solve of cgms.run) to ``ftol``; returns the iterations, the
     largest force component left and ``converged``."""
     start = lmp.extract_global("ntimestep")
-    lmp.commands_list(["min_style fire", "min_modify norm max dmax 1e-6",
-                       f"minimize 0.0 {ftol:.10g} {iterations} {10 * iterations}"])
+    lmp.commands_list(run.fire_commands(f"{ftol:.10g}", iterations))
     fmax = lmp.get_thermo("fmax")
     return dict(iterations=int(lmp.extract_global("ntimestep") - start), fmax=fmax,
                 converged=bool(fmax <= ftol), energy=lmp.get_thermo("pe"))
