@@ -84,7 +84,7 @@ def test_builder_cell_counts_and_bad_centres():
 def fix_only(folder, centres, s, jitter, seed=0):
     """Walls with only fix mfc/pressure acting (bonds, angles, pairs zeroed)."""
     return open_cells(folder, centres, s, jitter, seed, extra=[
-        "bond_coeff 1 0.0 4e-6", "angle_coeff 1 0.0 180.0", "pair_coeff * * 0.0 8e-6 8 4"])
+        "bond_coeff 1 0.0 4e-6", "angle_coeff 1 0.0", "pair_coeff * * 0.0 8e-6 8 4"])
 
 
 def forces(lmp):
@@ -141,6 +141,45 @@ def test_fix_pressure_and_newtons_third_law(tmp_path):
             r = x[c] - x[c].mean(axis=0)
             assert abs(np.sum(r[:, 0] * fc[:, 1] - r[:, 1] * fc[:, 0])) < 1e-12 * scale * 1e-4
         assert lv["turgor"] == 0.8 * 2e5
+    finally:
+        lmp.close()
+
+
+@pytest.mark.lammps
+def test_wall_bending_force_is_minus_its_energy_gradient_near_straight(tmp_path):
+    """The built hexagon's sides are straight: every angle there is within 1 mrad of
+    180 degrees, where LAMMPS's angle harmonic caps 1/sin(theta) and its force is no longer
+    the gradient of its energy (a dried wall has 8 % of its angles there; minimisers stall
+    on it). The bending alone (bonds and pairs zeroed), by central differences."""
+    data = tmp_path / "walls.data"
+    mfc_tissue.write_data(data, [[0.0, 0.0]], P, overwrite=True)
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_list(mfc_run.setup_commands(data, P))
+        lmp.commands_list(["bond_coeff 1 0.0 4e-6", "pair_coeff * * 0.0 8e-6 8 4",
+                           "displace_atoms all random 1e-9 1e-9 0 3 units box"])
+        lmp.command("run 0")
+        f = np.array(lmp.gather_atoms("f", 1, 3)).reshape(N, 3)[:, :2]
+        # the particles along the sides, away from the hexagon's corners (whose 60-degree
+        # turns are bent far beyond 1 mrad and carry 1000 x larger forces)
+        side = [i for i in range(N) if 2 <= i % P["per_side"] <= P["per_side"] - 2]
+        scale = np.abs(f[side]).max()
+        assert scale > 1e-10   # bent: the check has teeth
+        h = 1e-11
+        for i in side[::3]:
+            for d in (0, 1):
+                move = [0.0, 0.0]
+                move[d] = h
+                lmp.commands_list([f"group one id {i + 1}",
+                                   f"displace_atoms one move {move[0]} {move[1]} 0", "run 0"])
+                ep = lmp.get_thermo("pe")
+                lmp.commands_list([f"displace_atoms one move {-2 * move[0]} {-2 * move[1]} 0",
+                                   "run 0"])
+                em = lmp.get_thermo("pe")
+                lmp.commands_list([f"displace_atoms one move {move[0]} {move[1]} 0",
+                                   "group one delete"])
+                fd = -(ep - em) / (2 * h)
+                assert abs(fd - f[i, d]) < 1e-2 * scale, (i, d, fd, f[i, d])
     finally:
         lmp.close()
 
