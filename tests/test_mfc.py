@@ -310,6 +310,65 @@ def test_a_level_that_does_not_converge_reports_its_remaining_drift(tmp_path):
     assert report["shift"] >= report["mean_shifts"][-1] > 0
 
 
+@pytest.mark.lammps
+def test_newton_stiffness_matches_the_force_differences_column_by_column(tmp_path):
+    """cgms.mfc_newton builds the stiffness from few force evaluations (particles of one
+    colour displaced together, the cells' fluid stiffness taken out as a rank-one term);
+    against the plain finite differences, one particle at a time, on two dried cells."""
+    from cgms import mfc_newton
+    from cgms.solve import colour
+    lmp = open_cells(tmp_path, [[0.0, 0.0], [P["x_ref"], 0.0]])
+    try:
+        mfc_run.relax(lmp, P, 1.0, newton=None)
+        mfc_run.ramp(lmp, P, 1.0, 0.6, max_iterations=2000, newton=None)
+        forces = mfc_newton.CellForces(lmp)
+        xy = forces.positions()
+        reach = 1.3 * P["lamella_rc"]
+        hess, fluid = mfc_newton.stiffness(forces, xy, N, P["height"], reach, 5e-11,
+                                           colour(xy, 2 * reach))
+        g = mfc_newton.area_gradient(xy, N)
+        _, f0 = forces(xy)
+        plain = np.zeros((2 * len(xy), 2 * len(xy)))
+        for j in range(len(xy)):
+            for d in (0, 1):
+                xp, xm = xy.copy(), xy.copy()
+                xp[j, d] += 5e-11
+                xm[j, d] -= 5e-11
+                plain[:, 2 * j + d] = -(forces(xp)[1] - forces(xm)[1]).ravel() / 1e-10
+    finally:
+        lmp.close()
+    u = np.zeros((2 * len(xy), 2))
+    for i in range(len(xy)):
+        u[2 * i:2 * i + 2, i // N] = g[i]
+    built = hess.toarray() + u @ np.diag(fluid) @ u.T
+    plain = 0.5 * (plain + plain.T)
+    tolerance = 1e-6 * np.abs(plain).max()
+    assert np.abs(built - plain).max() < tolerance
+    # the fluid's part, which couples a cell's far wall particles, is far above that
+    assert np.abs(hess.toarray() - plain).max() > 1e3 * tolerance
+
+
+@pytest.mark.lammps
+def test_newton_finishes_a_dried_cluster_to_the_force_test(tmp_path):
+    """From the minimiser's state two chunks into s = 0.6 (7 cells), Newton's method
+    reaches a largest force of 1e-12 N in a few steps, at a lower energy; the minimiser
+    alone is still at 1e-7 N there (doc/mfc.md, "Newton")."""
+    from cgms import mfc_newton
+    lmp = open_cells(tmp_path, [[0.0, 0.0]] + [
+        [P["x_ref"] * math.cos(a), P["x_ref"] * math.sin(a)]
+        for a in np.arange(6) * math.pi / 3 + math.pi / 2])
+    try:
+        mfc_run.relax(lmp, P, 1.0, newton=None)
+        cg = mfc_run.ramp(lmp, P, 1.0, 0.6, max_iterations=4000, newton=None, shift=0)
+        report = mfc_newton.newton(lmp, P, ftol=1e-12, max_iterations=12)
+        fmax = lmp.get_thermo("fmax")
+    finally:
+        lmp.close()
+    assert cg["fmax"] > 1e-9 and not cg["converged"]
+    assert report["converged"] and fmax < 1e-12, report["history"]
+    assert report["energy"] < cg["energy"]
+
+
 def fast_then_sph(folder, s, steps):
     """The fast variant's steady state of one cell at level ``s``, then the SPH model
     started there (the ring filled with fluid at rest at the fast variant's pressure,
