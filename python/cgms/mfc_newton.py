@@ -131,7 +131,7 @@ def newton_step(hess, fluid, g, n_wall, rhs, shift):
         return None
 
 
-def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-7, step=5e-11, fix_id="mfc",
+def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix_id="mfc",
            log=None):
     """Minimise the fast variant's energy in the LAMMPS instance ``lmp`` (set up by
     :func:`cgms.mfc_run.setup_commands` and the levers of a level) from its current

@@ -5,19 +5,22 @@
 
 Each cell's fluid is at rest at a steady state, so it is one pressure from the equation
 of state of the area its wall ring encloses (``fix mfc/pressure``, doc/fix_mfc_pressure.rst).
-The walls are LAMMPS's own styles: harmonic bonds (stretching) and angles (bending) along
+The walls are LAMMPS's own styles: harmonic bonds (stretching) and cosine angles (bending) along
 each ring, and 8-4 Lennard-Jones (``pair nm/cut``) for the wall's self-avoidance and the
 middle lamella between adjacent cells (types = cell colours, so 1-1, 2-2, 3-3 are own-cell
 pairs and the rest neighbour-cell pairs). The whole model has a potential energy, so a
-steady state is a minimum: ``minimize`` (FIRE) finds it.
+steady state is a minimum: ``minimize`` (conjugate gradients) and Newton's method find it.
 
-Steady-state criterion (doc/mfc.md): the minimiser runs in chunks of ``chunk`` FIRE
-iterations; the state is steady when the largest force component on any wall particle is
-below ``ftol`` (N; the turgor load on a fresh wall particle is about 6e-6 N), or when over
-one chunk no cell centroid moved more than ``shift`` (m) and no cell area changed by more
-than ``area`` (relative). The second test ends the slow coarsening of wrinkles in dried
-walls, which moves neither centroids nor areas much. A level that meets neither within
-``max_iterations`` is reported as not converged, with its last chunk's centroid shift.
+Steady-state criterion (doc/mfc.md): the largest force component on any wall particle is
+below ``ftol`` (N; the turgor load on a fresh wall particle is about 6e-6 N). Conjugate
+gradients run in chunks of ``chunk`` iterations until the largest force is below ``newton``
+(N); Newton's method (:mod:`cgms.mfc_newton`) then finishes the level, which the minimiser
+alone does not for large dried tissues (their softest modes, the glued sheet sliding, creep
+for tens of thousands of iterations). With ``newton`` None the minimiser runs alone and a
+level is also taken as steady when over one chunk no cell centroid moved more than
+``shift`` (m) and no cell area changed by more than ``area`` (relative). A level that
+meets neither within ``max_iterations`` is reported as not converged, with its last
+chunk's centroid shift.
 
 Drying path (the ramp): the fresh tissue is relaxed first; every later level starts from
 the previous level's steady state and passes through intermediate levels ``stage`` apart
@@ -33,10 +36,10 @@ from .mfc_model import level
 
 DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
                 max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg",
-                newton=1e-7)
+                newton=1e-6)
 
 
-#: LAMMPS packages the fast variant's styles come from (bond/angle harmonic; pair nm/cut)
+#: LAMMPS packages the fast variant's styles come from (bond harmonic, angle cosine; pair nm/cut)
 PACKAGES = ("MOLECULE", "EXTRA-PAIR")
 
 
@@ -214,7 +217,7 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
     return report
 
 
-def _newton(lmp, p, ftol, before=None, iterations=20):
+def _newton(lmp, p, ftol, before=None, iterations=40):
     """Newton's method from the current state (:func:`cgms.mfc_newton.newton`), at most
     ``iterations`` steps. Returns its totals added to ``before`` (attempts, iterations,
     force evaluations, seconds); a failure (no step lowers the energy) is recorded, not
