@@ -110,9 +110,11 @@ def _areas(xy, n_wall):
     return 0.5 * np.sum(ring[..., 0] * nxt[..., 1] - nxt[..., 0] * ring[..., 1], axis=1)
 
 
-def newton_step(hess, fluid, g, n_wall, rhs, shift):
-    """Solve ``(S + shift I + U D U^T) dx = rhs`` (Woodbury); None when singular."""
-    m = len(rhs)
+def woodbury(hess, fluid, g, n_wall, shift=0.0):
+    """A solver of ``(S + shift I + U D U^T) dx = rhs`` (module doc): one sparse LU of
+    ``S + shift I`` and a system of one row per cell. Returns a function of ``rhs``, or
+    None when the matrix is singular."""
+    m = hess.shape[0]
     ncell = len(fluid)
     u = sp.csc_matrix((g.ravel(), (np.arange(m), np.repeat(np.arange(ncell), 2 * n_wall))),
                       shape=(m, ncell))
@@ -120,15 +122,25 @@ def newton_step(hess, fluid, g, n_wall, rhs, shift):
     try:
         lu = spla.splu(shifted, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                        options=dict(SymmetricMode=True))
-    except RuntimeError:   # singular
+        z = lu.solve(u.toarray())
+        small = np.linalg.inv(np.diag(1.0 / fluid) + u.T @ z)
+    except (RuntimeError, np.linalg.LinAlgError):   # singular
         return None
-    y = lu.solve(rhs)
-    z = lu.solve(u.toarray())
-    small = np.diag(1.0 / fluid) + u.T @ z
-    try:
-        return y - z @ np.linalg.solve(small, u.T @ y)
-    except np.linalg.LinAlgError:
-        return None
+
+    def solve(rhs):
+        y = lu.solve(rhs)
+        return y - z @ (small @ (u.T @ y))
+    return solve
+
+
+def matrix(hess, fluid, g, n_wall):
+    """The whole stiffness ``S + U D U^T`` as a SciPy linear operator."""
+    m = hess.shape[0]
+    ncell = len(fluid)
+    u = sp.csc_matrix((g.ravel(), (np.arange(m), np.repeat(np.arange(ncell), 2 * n_wall))),
+                      shape=(m, ncell))
+    return spla.LinearOperator((m, m), matvec=lambda v: hess @ v + u @ (fluid * (u.T @ v)),
+                               dtype=float)
 
 
 def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix_id="mfc",
@@ -168,7 +180,8 @@ def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix
         rhs = f.ravel()
         scale = np.abs(hess.diagonal()).mean()
         while True:
-            delta = newton_step(hess, fluid, g, n_wall, rhs, max(mu, 1e-12) * scale)
+            solve = woodbury(hess, fluid, g, n_wall, max(mu, 1e-12) * scale)
+            delta = None if solve is None else solve(rhs)
             if delta is not None:
                 delta = without_rigid_motion(xy, delta)
             if delta is not None and np.all(np.isfinite(delta)) and rhs @ delta > 0:
