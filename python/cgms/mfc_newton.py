@@ -161,7 +161,7 @@ def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix
     separation = 2 * reach
     colours = colour(xy, separation)
     start = time.perf_counter()
-    energy, f, pressure = forces.evaluate(xy)
+    energy, f = forces(xy)
     history, mu = [], 0.0
     converged = False
     for it in range(max_iterations + 1):
@@ -192,7 +192,7 @@ def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix
                 # force evaluation, a new matrix hundreds
                 for _ in range(4):
                     trial = xy + delta.reshape(-1, 2)
-                    e1, f1, p1 = forces.evaluate(trial)
+                    e1, f1 = forces(trial)
                     # Armijo; once the decrease is below the energy's rounding, a smaller
                     # force
                     decrease = e1 <= energy - 1e-4 * (rhs @ delta)
@@ -201,7 +201,7 @@ def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix
                         break
                     delta = 0.5 * delta
                 if decrease or flat:
-                    xy, energy, f, pressure = trial, e1, f1, p1
+                    xy, energy, f = trial, e1, f1
                     mu = mu / 10 if mu > 1e-10 else 0.0
                     break
             mu = max(10 * mu, 1e-8)
