@@ -165,7 +165,8 @@ def test_moisture_dependent_d_matches_python(tmp_path, b):
     """D varying with moisture (D_moisture b: D ~ exp(b (X/X0 - 1)), the face D the mean of
     the two nodes' D): the fix's nodes, outflows and water balance equal cgms.transport's
     (whose steady flow matches the Kirchhoff solution, test_drying_transport.py) to 1e-10,
-    with both faces and the outline in air, heat balance on."""
+    with both faces and the outline in air (measured: nodes 1.7e-13 for b = 3, 2.8e-14
+    for b = -2; outflows 3e-14 of the initial water; balance 1.2e-15)."""
     params = dict(read_params(), D_moisture=b)
     (tmp_path / "dx.params").write_text("".join(f"{k} {v!r}\n" for k, v in params.items()))
     xy = jittered()
