@@ -9,9 +9,8 @@ import numpy as np
 import pytest
 
 import reference
-from cgmstest import CUTOFF, MAT, header, make_tissue, physics, read_dump, run_lmp
-
-pytestmark = pytest.mark.lammps
+from cgms import material
+from cgmstest import APPLE, CUTOFF, MAT, header, make_tissue, physics, read_dump, run_lmp
 
 # turgor and perimeter off: the pair coefficient is then the cell-shape share alone, so
 # the comparison checks k_S(s) to rounding (the full model is in test_reference.py)
@@ -40,6 +39,7 @@ def oracle(state, mat):
     return f, lj + reference.shape_energy(xy, s, mat, CUTOFF)
 
 
+@pytest.mark.lammps
 @pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
 @pytest.mark.parametrize("dryness", [(0.3, 1.0), 0.6])
 def test_dryness_dependent_stiffness_matches_reference(tmp_path, nprocs, dryness):
@@ -57,6 +57,7 @@ def test_dryness_dependent_stiffness_matches_reference(tmp_path, nprocs, dryness
     assert np.abs(constant - f).max() > 0.1 * scale
 
 
+@pytest.mark.lammps
 def test_exponent_zero_is_the_constant_stiffness(tmp_path):
     """n = 0 (given) and no k_S_exponent line give the same bits; n = 6 at a uniform
     s = 0.6 gives what a constant k_S 0.6^6 gives."""
@@ -73,6 +74,7 @@ def test_exponent_zero_is_the_constant_stiffness(tmp_path):
     assert scaled["pe"] == pytest.approx(constant["pe"], rel=1e-13)
 
 
+@pytest.mark.lammps
 @pytest.mark.parametrize("value,message", [
     ("-1", "CGMS parameter k_S_exponent = -1 must be >= 0"),
     ("six", "value 'six' of parameter k_S_exponent is not a number"),
@@ -83,3 +85,16 @@ def test_bad_exponent_is_refused(tmp_path, value, message):
     proc = run_lmp(tmp_path, script, check=False)
     assert proc.returncode != 0
     assert "ERROR" in proc.stdout and message in proc.stdout, proc.stdout[-2000:]
+
+
+def test_python_reads_the_exponent_by_the_plugins_rules(tmp_path):
+    """cgms.material knows k_S_exponent (optional, >= 0), as the plugin's table does."""
+    text = open(APPLE).read()
+    good = tmp_path / "good.cgms"
+    good.write_text(text + "k_S 2.9\nk_S_exponent 6\n")
+    assert material.read(good)["k_S_exponent"] == 6.0
+    assert "k_S_exponent" not in material.read(APPLE)
+    bad = tmp_path / "bad.cgms"
+    bad.write_text(text + "k_S_exponent -1\n")
+    with pytest.raises(ValueError, match="k_S_exponent = -1 must be >= 0"):
+        material.read(bad)
