@@ -25,8 +25,23 @@ from . import folders, mfc_run, mfc_tissue, tissue
 from .mfc_model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
-SUPPORT = 13.0e-6    # Lucy kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
+SUPPORT = 13.0e-6    # kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
 TAU = 2.0e-7         # damping time of fix viscous, s (2 us: the fresh cell inflates, doc/mfc.md)
+
+def fluid_style(p):
+    """``(style, settings)`` of the SPH fluid's pair style, chosen by two optional
+    parameters: ``sph_ap`` (Monaghan's artificial pressure factor epsilon; 0 = off) and
+    ``sph_kernel`` ("lucy" or "wendland"). Both at their defaults: LAMMPS's own
+    sph/taitwater/morris; otherwise the plugin's sph/taitwater/ap
+    (doc/pair_sph_taitwater_ap.rst), which holds the fluid in tension."""
+    ap, kernel = p.get("sph_ap", 0.0), p.get("sph_kernel", "lucy")
+    if kernel not in ("lucy", "wendland"):
+        raise ValueError(f"sph_kernel must be lucy or wendland, got {kernel!r}")
+    if not ap >= 0:
+        raise ValueError(f"sph_ap (artificial pressure factor) must be >= 0, got {ap!r}")
+    if ap == 0 and kernel == "lucy":
+        return "sph/taitwater/morris", ""
+    return "sph/taitwater/ap", f"kernel {kernel} epsilon {ap:g}"
 
 
 def tait(p, s):
@@ -133,7 +148,7 @@ def setup_commands(data, p, newton="on", processors=None):
              "group wall type 1 2 3", "group fluid type 4 5 6",
              "special_bonds lj 1.0 1.0 1.0", "bond_style harmonic", "angle_style harmonic",
              f"angle_coeff 1 {p['k_bend'] / 2:.10g} 180.0",
-             f"pair_style hybrid/overlay sph/taitwater/morris nm/cut {p['lamella_rc']:.10g}"]
+             f"pair_style hybrid/overlay {' '.join(fluid_style(p))} nm/cut {p['lamella_rc']:.10g}"]
     rep = f"nm/cut {p['self_E0']:.10g} {p['self_r0']:.10g} 8 4 {p['self_r0']:.10g}"
     lam = f"nm/cut {p['lamella_E0']:.10g} {p['pectin']:.10g} 8 4 {p['lamella_rc']:.10g}"
     for i in (1, 2, 3):
@@ -152,9 +167,13 @@ def setup_commands(data, p, newton="on", processors=None):
 
 
 def sph_commands(p, s):
-    """SPH coefficients of level s: the EOS (through rho_r and c0) and the viscosity."""
+    """SPH coefficients of level s: the EOS (through rho_r and c0) and the viscosity; for
+    sph/taitwater/ap also the fluid spacing of level s, ``fluid_spacing * sqrt(s)``."""
     rho, c0 = tait(p, s)
-    coef = f"sph/taitwater/morris {rho:.10g} {c0:.10g} {MU * p['height']:.10g} {SUPPORT:.10g}"
+    style = fluid_style(p)[0]
+    coef = f"{style} {rho:.10g} {c0:.10g} {MU * p['height']:.10g} {SUPPORT:.10g}"
+    if style == "sph/taitwater/ap":
+        coef += f" {p['fluid_spacing'] * math.sqrt(s):.10g}"
     return [f"pair_coeff {c} {c + 3} {coef}" for c in (1, 2, 3)] + \
         [f"pair_coeff {c} {c} {coef}" for c in (4, 5, 6)]
 
@@ -184,3 +203,45 @@ def dry(lmp, p, s, s_old):
 def wall_positions(lmp, p):
     """Wall particle positions (n_cells * n_wall, 2), by atom ID."""
     return mfc_run.positions(lmp)[: lmp.extract_global("nbonds")]
+
+
+def fluid_state(lmp, p, s):
+    """The SPH state of every cell at level ``s``, gathered from all ranks: wall positions
+    (by atom ID) and per cell arrays ``fluid`` (its particles' area sum m/rho, m^2), ``ring``
+    (the area its wall encloses), ``layer`` ((ring - fluid) / wall perimeter: the mean
+    width between wall and fluid, m), ``void`` (share of the ring farther than one fluid
+    spacing of level s from every fluid particle: holes the fluid left), ``nearest`` (mean
+    distance to the nearest fluid particle of the cell over that spacing: a fluid that
+    pairs up falls towards 0), ``pressure`` and ``pressure_sd`` (its particles' Tait
+    pressure, Pa) and the walls' mean ``wall_pressure`` (Pa)."""
+    from scipy.spatial import cKDTree
+    from . import mfc_metrics
+    n = lmp.get_natoms()
+    x = np.array(lmp.gather_atoms("x", 1, 3), float).reshape(n, 3)[:, :2]
+    rho = np.array(lmp.gather_atoms("rho", 1, 1), float)
+    mol = np.array(lmp.gather_atoms("molecule", 0, 1))
+    kind = np.array(lmp.gather_atoms("type", 0, 1))
+    mass = lmp.numpy.extract_atom("mass")[kind]
+    nw = lmp.extract_global("nbonds")
+    walls = x[:nw]
+    cells = mfc_metrics.cells(walls, p["n_wall"])
+    rho_r, c0 = tait(p, s)
+    press = c0 * c0 * rho_r / 7 * ((rho / rho_r) ** 7 - 1) / p["height"]
+    dx = p["fluid_spacing"] * math.sqrt(s)
+    out = {k: np.empty(len(cells["area"])) for k in (
+        "fluid", "void", "nearest", "pressure", "pressure_sd", "wall_pressure")}
+    for c, ring in enumerate(walls.reshape(-1, p["n_wall"], 2)):
+        own = np.flatnonzero((mol == c + 1) & (np.arange(n) >= nw))
+        tree = cKDTree(x[own])
+        out["fluid"][c] = (mass[own] / rho[own]).sum()
+        out["nearest"][c] = tree.query(x[own], 2)[0][:, 1].mean() / dx
+        lo, hi = ring.min(axis=0), ring.max(axis=0)
+        g = [np.arange(lo[k], hi[k], dx / 8) for k in (0, 1)]
+        grid = np.stack(np.meshgrid(*g), axis=-1).reshape(-1, 2)
+        grid = grid[tissue._inside(grid, ring, 0.0, closed=False)]
+        out["void"][c] = np.mean(tree.query(grid)[0] > dx)
+        out["pressure"][c], out["pressure_sd"][c] = press[own].mean(), press[own].std()
+        out["wall_pressure"][c] = press[c * p["n_wall"]:(c + 1) * p["n_wall"]].mean()
+    out.update(walls=walls, ring=cells["area"],
+               layer=(cells["area"] - out["fluid"]) / cells["perimeter"])
+    return out
