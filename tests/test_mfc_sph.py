@@ -14,7 +14,7 @@ import pytest
 
 from cgmstest import PLUGIN, run_lmp
 
-from cgms import mfc_model, mfc_run, mfc_sph, run
+from cgms import mfc_metrics, mfc_model, mfc_run, mfc_sph, run
 
 pytestmark = pytest.mark.lammps
 
@@ -251,9 +251,10 @@ def test_bad_input_names_the_cause(tmp_path, line, message):
 P = mfc_model.parameters()
 
 
-def dried_cell(tmp_path, s, **fluid):
+def dried_cell(tmp_path, s, path="density", stage_steps=4000, hold=8000, **fluid):
     """One fresh MFC cell (SPH, 6 000 steps), dried by SPH along the ramp to ``s`` (stages
-    0.05 apart, 4 000 steps each, then 8 000 more steps): mfc_sph.fluid_state there."""
+    0.05 apart, ``stage_steps`` each, ``mfc_sph.dry`` with ``path``, then ``hold`` more
+    steps): mfc_sph.fluid_state fresh and there."""
     p = mfc_model.parameters(**fluid)
     mfc_sph.write_data(tmp_path / "sph.data", [[0.0, 0.0]], p)
     lmp = run.open_lammps()
@@ -263,24 +264,58 @@ def dried_cell(tmp_path, s, **fluid):
         fresh = mfc_sph.fluid_state(lmp, p, 1.0)
         s_now = 1.0
         for stage in mfc_run.stages(1.0, s, 0.05) + [s]:
-            mfc_sph.dry(lmp, p, stage, s_now)
+            mfc_sph.dry(lmp, p, stage, s_now, path=path)
             s_now = stage
-            lmp.command("run 4000")
-        lmp.command("run 8000")
+            lmp.command(f"run {stage_steps}")
+        lmp.command(f"run {hold}")
         return fresh, mfc_sph.fluid_state(lmp, p, s)
     finally:
         lmp.close()
 
 
-def test_sph_dries_a_cell_without_pairing(tmp_path):
-    """With the artificial pressure the SPH fluid follows the drying to s = 0.8: its
-    particles keep their spacing (LAMMPS's sph/taitwater/morris pairs them: mean nearest
-    neighbour 0.50 spacings), the wall follows the fluid (the gap between them no wider
-    than in the fresh fill: no void), the mass is kept and the fluid is near rest."""
+def fast_cell(tmp_path, s):
+    """The fast variant's steady state of one cell at level s (mfc_metrics.cells)."""
+    from cgms import mfc_tissue
+    mfc_tissue.write_data(tmp_path / "walls.data", [[0.0, 0.0]], P, overwrite=True)
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_list(mfc_run.setup_commands(tmp_path / "walls.data", P))
+        report = mfc_run.ramp(lmp, P, None, s, ftol=1e-11)
+        walls = mfc_run.positions(lmp)
+    finally:
+        lmp.close()
+    assert report["converged"], report
+    return mfc_metrics.cells(walls, P["n_wall"])
+
+
+def test_fluid_in_tension_does_not_pair(tmp_path):
+    """Dried to s = 0.8 by putting the fluid in tension (path "density": -6 MPa a stage),
+    the artificial pressure keeps the particles apart (LAMMPS's sph/taitwater/morris pairs
+    them: mean nearest neighbour 0.50 spacings, some at 0), the wall follows the fluid
+    (the gap between them no wider than in the fresh fill: no void), the fluid is near
+    rest."""
     fresh, dried = dried_cell(tmp_path, 0.8, sph_ap=0.2)
     assert dried["nearest"][0] > 0.75, dried["nearest"]
     # the fluid's area sum m/rho: s times the fresh one, within its pressure noise
     assert abs(dried["fluid"][0] / (0.8 * fresh["fluid"][0]) - 1) < 5e-3
     assert dried["layer"][0] < fresh["layer"][0]
     assert dried["void"][0] <= fresh["void"][0] + 0.005
+    assert abs(dried["pressure"][0]) < 20e3
+
+
+def test_sph_dries_a_cell_to_the_fast_steady_state(tmp_path):
+    """Dried by SPH itself to s = 0.6 along the affine path with the artificial pressure:
+    the cell reaches the fast variant's steady state within 1 % in area and 0.2 % in
+    perimeter, the fluid holds together (no void beyond the fresh fill's), near rest.
+    Along the "density" path the same cell ends 8 % short (0.554 A0): its walls are left
+    in tension."""
+    fast = fast_cell(tmp_path, 0.6)
+    fresh, dried = dried_cell(tmp_path, 0.6, path="affine", stage_steps=2000, hold=4000,
+                              sph_ap=0.2)
+    c = mfc_metrics.cells(dried["walls"], P["n_wall"])
+    assert abs(c["area"][0] / fast["area"][0] - 1) < 0.01, c["area"][0] / fast["area"][0]
+    assert abs(c["perimeter"][0] / fast["perimeter"][0] - 1) < 2e-3
+    assert dried["nearest"][0] > 0.65, dried["nearest"]
+    assert dried["void"][0] < fresh["void"][0] + 0.02
+    assert dried["layer"][0] < fresh["layer"][0]
     assert abs(dried["pressure"][0]) < 20e3

@@ -189,14 +189,29 @@ def level_commands(p, s, mf=None):
         f"fix dw wall viscous {mw / TAU:.10g}", f"fix df fluid viscous {mf / TAU:.10g}"]
 
 
-def dry(lmp, p, s, s_old):
-    """Dry from ``s_old`` to ``s``: masses and densities of fluid and wall scaled by
-    s / s_old together, so SPH volumes m/rho are unchanged and the pressure drops until
-    the cell has contracted to its new fluid mass; then :func:`level_commands`. Works on
-    each rank's own particles (run under mpirun, every rank executes it)."""
+#: the ways :func:`dry` takes a drying stage (doc/mfc.md, "An SPH drying path")
+PATHS = ("density", "affine")
+
+
+def dry(lmp, p, s, s_old, path="density"):
+    """Dry from ``s_old`` to ``s``, then :func:`level_commands`. ``path`` "density": masses
+    and densities of fluid and wall scaled by s / s_old together, so SPH volumes m/rho are
+    unchanged and the fluid goes into tension (-6 MPa for a stage of 0.05) until the cells
+    have contracted to their new fluid mass. "affine": masses scaled, densities kept, and
+    every particle moved towards the tissue's centroid by sqrt(s / s_old), so the fluid
+    stays at its pressure and packing in the smaller area, and the walls, now compressed
+    against their contracted rest length, fold. Works on each rank's own particles (run
+    under mpirun, every rank executes it)."""
+    if path not in PATHS:
+        raise ValueError(f"path must be one of {', '.join(PATHS)}, got {path!r}")
     nlocal = lmp.extract_global("nlocal")
-    rho = lmp.numpy.extract_atom("rho")
-    rho[:nlocal] *= s / s_old
+    if path == "density":
+        rho = lmp.numpy.extract_atom("rho")
+        rho[:nlocal] *= s / s_old
+    else:
+        centre = wall_positions(lmp, p).mean(axis=0)
+        x = lmp.numpy.extract_atom("x")
+        x[:nlocal, :2] = centre + (x[:nlocal, :2] - centre) * math.sqrt(s / s_old)
     lmp.commands_list(level_commands(p, s))
 
 
