@@ -7,11 +7,11 @@ one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
     source build/env.sh
     /usr/bin/python3 examples/mfc/sph_vs_fast.py [cells: 1 or 7] [levels, e.g. 1,0.8]
     /usr/bin/python3 examples/mfc/sph_vs_fast.py 7 0.8,0.6,0.3 --from-fast [--kick 0.5]
-    /usr/bin/python3 examples/mfc/sph_vs_fast.py 1 --path affine --ap 0.2 [--kernel wendland]
+    /usr/bin/python3 examples/mfc/sph_vs_fast.py 1 --ap 0.2 --kernel wendland [--path density]
 
 Default: both models dried along the same ramp from the fresh cell(s); ``--path`` is how
-SPH takes each stage (``cgms.mfc_sph.dry``: "density", the fluid put in tension, or
-"affine", everything moved in with the fluid), ``--ap`` Monaghan's artificial pressure
+SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with the
+fluid, or "density", the fluid put in tension, the route before), ``--ap`` Monaghan's artificial pressure
 factor and ``--kernel`` the kernel (both: pair sph/taitwater/ap; default LAMMPS's
 sph/taitwater/morris). Per level it prints also the SPH fluid: its area sum m/rho, the
 layer between it and the wall, the share of the ring it leaves void, the mean distance to
@@ -92,7 +92,7 @@ def main():
     parser.add_argument("--from-fast", action="store_true")
     parser.add_argument("--steps", type=int, default=60000)
     parser.add_argument("--kick", type=float, default=0.0, help="um")
-    parser.add_argument("--path", choices=mfc_sph.PATHS, default="density")
+    parser.add_argument("--path", choices=mfc_sph.PATHS, default="affine")
     parser.add_argument("--ap", type=float, default=0.0, help="artificial pressure epsilon")
     parser.add_argument("--kernel", choices=("lucy", "wendland"), default="lucy")
     parser.add_argument("--chunks", type=int, default=200,
