@@ -231,8 +231,7 @@ void PairSPHTaitwaterAP::settings(int narg, char **arg)
     } else if (key == "exponent") {
       exponent = utils::inumeric(FLERR, value, false, lmp);
       if (exponent < 1)
-        error->all(FLERR, "Pair sph/taitwater/ap exponent must be an integer >= 1, not {}",
-                   value);
+        error->all(FLERR, "Pair sph/taitwater/ap exponent must be an integer >= 1, not {}", value);
     } else
       error->all(FLERR, "Unknown pair sph/taitwater/ap keyword {}", key);
     iarg += 2;

@@ -30,9 +30,9 @@ class PairSPHTaitwaterAP : public Pair {
 
  protected:
   enum { LUCY, WENDLAND };
-  int kernel;          // LUCY or WENDLAND
-  double epsilon;      // artificial pressure factor (0: off)
-  int exponent;        // n of (W(r) / W(dp))^n
+  int kernel;        // LUCY or WENDLAND
+  double epsilon;    // artificial pressure factor (0: off)
+  int exponent;      // n of (W(r) / W(dp))^n
 
   double *rho0, *soundspeed, *B;    // per type: the EOS
   double **cut, **viscosity;        // per type pair: kernel support, mu
