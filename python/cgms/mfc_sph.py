@@ -20,8 +20,9 @@ viscosity mu H; masses are real slab masses, so forces are in N.
 import math
 
 import numpy as np
+from scipy.spatial import cKDTree
 
-from . import folders, mfc_run, mfc_tissue, tissue
+from . import folders, mfc_metrics, mfc_run, mfc_tissue, tissue
 from .mfc_model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
@@ -202,8 +203,8 @@ def dry(lmp, p, s, s_old, path="affine"):
     every particle moved towards the tissue's centroid by sqrt(s / s_old), so the fluid
     stays at its pressure and packing in the smaller area, and the walls, now compressed
     against their contracted rest length, fold (the default: it reaches the fast
-    variant's states within 0.2-2 % in area at s = 0.8-0.3, doc/mfc.md). Works on each rank's own particles (run
-    under mpirun, every rank executes it)."""
+    variant's states within 0.2-2 % in area at s = 0.8-0.3, doc/mfc.md). Works on each
+    rank's own particles (run under mpirun, every rank executes it)."""
     if path not in PATHS:
         raise ValueError(f"path must be one of {', '.join(PATHS)}, got {path!r}")
     nlocal = lmp.extract_global("nlocal")
@@ -231,8 +232,6 @@ def fluid_state(lmp, p, s):
     distance to the nearest fluid particle of the cell over that spacing: a fluid that
     pairs up falls towards 0), ``pressure`` and ``pressure_sd`` (its particles' Tait
     pressure, Pa) and the walls' mean ``wall_pressure`` (Pa)."""
-    from scipy.spatial import cKDTree
-    from . import mfc_metrics
     n = lmp.get_natoms()
     x = np.array(lmp.gather_atoms("x", 1, 3), float).reshape(n, 3)[:, :2]
     rho = np.array(lmp.gather_atoms("rho", 1, 1), float)
