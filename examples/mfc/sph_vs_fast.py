@@ -13,9 +13,10 @@ Default: both models dried along the same ramp from the fresh cell(s); ``--path`
 SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with the
 fluid, or "density", the fluid put in tension, the route before), ``--ap`` Monaghan's
 artificial pressure factor and ``--kernel`` the kernel (both: pair sph/taitwater/ap;
-default LAMMPS's sph/taitwater/morris). Per level it prints also the SPH fluid: its area sum m/rho, the
-layer between it and the wall, the share of the ring it leaves void, the mean distance to
-the nearest fluid particle over the spacing (pairing) and the pressures. ``--from-fast``:
+default LAMMPS's sph/taitwater/morris). Per level it prints also the SPH fluid: its area
+sum m/rho, the layer between it and the wall, the share of the ring it leaves void, the
+mean distance to the nearest fluid particle over the spacing (pairing) and the pressures.
+``--from-fast``:
 the SPH model started from the fast variant's steady state of each level (every ring
 filled with SPH fluid at rest, ``cgms.mfc_sph.write_state``), walls optionally kicked at
 random by up to ``--kick`` um, and run ``--steps`` steps: does SPH stay there (or come
