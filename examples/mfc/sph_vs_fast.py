@@ -66,7 +66,6 @@ def from_fast(folder, p, s, walls, colour, pressure, steps, kick):
     sph.commands_list(mfc_sph.level_commands(p, s, mf=state["fluid_mass"]) + ["timestep 2e-9"])
     if kick:
         sph.command(f"displace_atoms wall random {kick * 1e-6:.6g} {kick * 1e-6:.6g} 0 7 units box")
-    rho_r, c0 = mfc_sph.tait(p, s)
     cf = mfc_metrics.cells(walls, p["n_wall"])
     nw, dx = len(walls), p["fluid_spacing"] * math.sqrt(s)
     done = 0
@@ -75,7 +74,7 @@ def from_fast(folder, p, s, walls, colour, pressure, steps, kick):
         done += STAGE_STEPS
         xy, rho = sph_state(sph, p)
         cs = mfc_metrics.cells(xy, p["n_wall"])
-        pf = c0 * c0 * rho_r / 7 * ((rho[nw:] / rho_r) ** 7 - 1) / p["height"]
+        pf = mfc_sph.pressure(p, s, rho[nw:])
         x = mfc_run.positions(sph)[nw:]
         near = cKDTree(x).query(x, 2)[0][:, 1]
         print(f"    {done:6d} steps: area {np.abs(cs['area'] / cf['area'] - 1).max():.4%}, "

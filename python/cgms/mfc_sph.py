@@ -29,6 +29,7 @@ MU = 1.0e-3          # water viscosity, Pa s
 SUPPORT = 13.0e-6    # kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
 TAU = 2.0e-7         # damping time of fix viscous, s (2 us: the fresh cell inflates, doc/mfc.md)
 
+
 def fluid_style(p):
     """``(style, settings)`` of the SPH fluid's pair style, chosen by two optional
     parameters: ``sph_ap`` (Monaghan's artificial pressure factor epsilon; 0 = off) and
@@ -53,6 +54,13 @@ def tait(p, s):
     b = p["K"] - pt
     rho_r = p["rho0"] * (1 - pt / p["K"]) ** (1 / 7)
     return rho_r * p["height"], math.sqrt(7 * b / rho_r)
+
+
+def pressure(p, s, rho):
+    """Pressure (Pa) of SPH particles of areal density ``rho`` at level s: LAMMPS's Tait EOS
+    B [(rho/rho_r)^7 - 1] per slab height, B = c0^2 rho_r / 7."""
+    rho_r, c0 = tait(p, s)
+    return c0 * c0 * rho_r / 7 * ((np.asarray(rho) / rho_r) ** 7 - 1) / p["height"]
 
 
 def fluid_mass(p):
@@ -241,8 +249,7 @@ def fluid_state(lmp, p, s):
     nw = lmp.extract_global("nbonds")
     walls = x[:nw]
     cells = mfc_metrics.cells(walls, p["n_wall"])
-    rho_r, c0 = tait(p, s)
-    press = c0 * c0 * rho_r / 7 * ((rho / rho_r) ** 7 - 1) / p["height"]
+    press = pressure(p, s, rho)
     dx = p["fluid_spacing"] * math.sqrt(s)
     out = {k: np.empty(len(cells["area"])) for k in (
         "fluid", "void", "nearest", "pressure", "pressure_sd", "wall_pressure")}
