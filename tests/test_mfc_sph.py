@@ -8,6 +8,7 @@ law, 1 vs 2 ranks, restart, bad coefficients; and one single MFC cell dried by S
 without its fluid pairing up (doc/mfc.md, "An SPH drying path")."""
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -311,7 +312,11 @@ def test_fluid_in_tension_does_not_pair(tmp_path):
     assert abs(dried["pressure"][0]) < 20e3
 
 
-@pytest.mark.parametrize("kernel", ["lucy", "wendland"])
+LONG = [pytest.mark.slow, pytest.mark.skipif(not os.environ.get("CGMS_SLOW"),
+                                             reason="long variant: CGMS_SLOW=1 pytest -m slow")]
+
+
+@pytest.mark.parametrize("kernel", [pytest.param("lucy", marks=LONG), "wendland"])
 def test_sph_dries_a_cell_to_the_fast_steady_state(tmp_path, kernel):
     """Dried by SPH itself to s = 0.6 along the affine path with the artificial pressure:
     the cell reaches the fast variant's steady state within 1 % in area and 0.2 % in
