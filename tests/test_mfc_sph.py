@@ -84,16 +84,20 @@ def particles(seed=3, count=9):
 
 def lammps_forces(x, v, rho, types, style, settings="", newton="on"):
     """``run 0`` of the particles with ``style`` (sph/taitwater/ap or LAMMPS's
-    sph/taitwater/morris): forces and density rates, by atom ID."""
+    sph/taitwater/morris): forces and density rates, by atom ID. Positions (n, 2) in 2-d,
+    (n, 3) in 3-d."""
+    dim = x.shape[1]
     lmp = run.open_lammps()
     try:
         lmp.commands_list([
-            "units si", "dimension 2", "boundary f f p", f"newton {newton}",
-            "atom_style sph", "atom_modify map array",
-            "region box block -1e-5 3e-5 -1e-5 3e-5 -1e-6 1e-6", "create_box 2 box",
-            "comm_modify vel yes", "neighbor 1e-6 bin"])
-        for k, ((px, py), t, rh) in enumerate(zip(x, types, rho)):
-            lmp.command(f"create_atoms {t} single {px:.17g} {py:.17g} 0.0")
+            "units si", f"dimension {dim}", "boundary f f " + ("p" if dim == 2 else "f"),
+            f"newton {newton}", "atom_style sph", "atom_modify map array",
+            "region box block -1e-5 3e-5 -1e-5 3e-5 "
+            + ("-1e-6 1e-6" if dim == 2 else "-1e-5 3e-5"),
+            "create_box 2 box", "comm_modify vel yes", "neighbor 1e-6 bin"])
+        for k, (px, t, rh) in enumerate(zip(x, types, rho)):
+            z = px[2] if dim == 3 else 0.0
+            lmp.command(f"create_atoms {t} single {px[0]:.17g} {px[1]:.17g} {z:.17g}")
             lmp.command(f"set atom {k + 1} sph/rho {rh:.17g}")
         lmp.commands_list([f"mass {t} {m:.17g}" for t, m in MASS.items()])
         lmp.command(f"pair_style {style} {settings}")
@@ -102,10 +106,10 @@ def lammps_forces(x, v, rho, types, style, settings="", newton="on"):
             tail = f" {dp:.17g}" if style == "sph/taitwater/ap" else ""
             lmp.command(f"pair_coeff {i} {j} {r0:.17g} {c:.17g} {mu:.17g} {h:.17g}{tail}")
         vest = lmp.numpy.extract_atom("vest")
-        vest[: len(x), :2] = v
+        vest[: len(x), :dim] = v
         lmp.command("run 0")
         n = len(x)
-        f = np.array(lmp.gather_atoms("f", 1, 3)).reshape(n, 3)[:, :2]
+        f = np.array(lmp.gather_atoms("f", 1, 3)).reshape(n, 3)[:, :dim]
         drho = np.array(lmp.gather_atoms("drho", 1, 1))
     finally:
         lmp.close()
@@ -133,6 +137,20 @@ def test_artificial_pressure_off_is_lammps_sph_taitwater_morris():
     x, v, rho, types = particles(seed=5)
     f, drho = lammps_forces(x, v, rho, types, "sph/taitwater/ap", "epsilon 0")
     fl, dl = lammps_forces(x, v, rho, types, "sph/taitwater/morris")
+    assert np.abs(f - fl).max() < 1e-12 * np.abs(fl).max()
+    assert np.abs(drho - dl).max() < 1e-12 * np.abs(dl).max()
+
+
+def test_three_dimensions_artificial_pressure_off_is_lammps_sph_taitwater_morris():
+    """In 3-d (the MFC is 2-d; the style supports both) the Lucy kernel's 3-d factor is
+    LAMMPS's."""
+    x, v, rho, types = particles(seed=9, count=12)
+    rng = np.random.default_rng(1)
+    x = np.column_stack([x, rng.uniform(0, 8e-6, len(x))])
+    v = np.column_stack([v, rng.normal(0, 0.05, len(x))])
+    f, drho = lammps_forces(x, v, rho, types, "sph/taitwater/ap", "epsilon 0")
+    fl, dl = lammps_forces(x, v, rho, types, "sph/taitwater/morris")
+    assert np.abs(fl).max() > 0
     assert np.abs(f - fl).max() < 1e-12 * np.abs(fl).max()
     assert np.abs(drho - dl).max() < 1e-12 * np.abs(dl).max()
 
