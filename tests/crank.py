@@ -55,3 +55,19 @@ def disc_field(r, fourier, biot, count=200):
     r = np.atleast_1d(r)[:, None]
     return np.sum(2 * biot * j0(b * r) / ((b**2 + biot**2) * j0(b)) * np.exp(-b**2 * fourier),
                   axis=1)
+
+
+def kirchhoff_profile(z, x_hi, x_lo, b, x0=1.0):
+    """Steady 1-D moisture between X(0) = x_hi and X(1) = x_lo with D(X) = D0 exp(b (X/x0
+    - 1)), at z in [0, 1]. The Kirchhoff transform Phi(X) = int D dX (Crank 1975, sec.
+    7.2) turns the steady flux d/dz (D dX/dz) = 0 into Phi'' = 0: Phi is linear in z, and
+    Phi = D0 x0 / b exp(b (X/x0 - 1)) + const, so exp(b X / x0) is linear in z."""
+    e_hi, e_lo = np.exp(b * x_hi / x0), np.exp(b * x_lo / x0)
+    return x0 / b * np.log(e_hi + (e_lo - e_hi) * np.asarray(z, float))
+
+
+def kirchhoff_flux(x_hi, x_lo, b, d0, length, x0=1.0):
+    """Steady flux per unit area and unit solid density (m/s times X) of that profile over
+    ``length``: (Phi(x_hi) - Phi(x_lo)) / length."""
+    phi = lambda x: d0 * x0 / b * np.exp(b * (x / x0 - 1))
+    return (phi(x_hi) - phi(x_lo)) / length

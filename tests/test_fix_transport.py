@@ -160,6 +160,30 @@ def test_matches_python_oracle(tmp_path, name):
     assert abs(last[4] - (prev[3] - last[3]) / (last[2] - prev[2])) < 1e-9 * last[4]
 
 
+@pytest.mark.parametrize("b", [3.0, -2.0])
+def test_moisture_dependent_d_matches_python(tmp_path, b):
+    """D varying with moisture (D_moisture b: D ~ exp(b (X/X0 - 1)), the face D the mean of
+    the two nodes' D): the fix's nodes, outflows and water balance equal cgms.transport's
+    (whose steady flow matches the Kirchhoff solution, test_drying_transport.py) to 1e-10,
+    with both faces and the outline in air (measured: nodes 1.7e-13 for b = 3, 2.8e-14
+    for b = -2; outflows 3e-14 of the initial water; balance 1.2e-15)."""
+    params = dict(read_params(), D_moisture=b)
+    (tmp_path / "dx.params").write_text("".join(f"{k} {v!r}\n" for k, v in params.items()))
+    xy = jittered()
+    rows, dump = lammps(tmp_path, xy, "layers 3 dt 10 adapt 0.02 300 heat no", 25,
+                        params="dx.params")
+    x, _, out_face, out_edge, w0 = oracle(xy, 25, 10.0, 3, adapt=(0.02, 300.0), params=params)
+    assert np.ptp(x / params["X0"]) > 0.3          # D varies by exp(0.3 b) or more
+    assert np.abs(nodes(dump) - x / params["X0"]).max() < 1e-10
+    last = rows[-1]
+    assert abs(last[5] - out_face) <= 1e-10 * w0
+    assert abs(last[6] - out_edge) <= 1e-10 * w0
+    assert abs(last[7]) < 1e-10                    # water balance
+    # and the moisture dependence acts: the same run with D constant differs
+    flat, *_ = oracle(xy, 25, 10.0, 3, adapt=(0.02, 300.0), params=dict(params, D_moisture=0.0))
+    assert np.abs(flat - x).max() > 1e-3 * params["X0"]
+
+
 def test_product_temperature_matches_python(tmp_path):
     """With the heat balance on: the product temperature and the moisture follow the
     Python side (whose Brent solve stops at 1e-6 K, so 1e-6 here)."""
