@@ -18,6 +18,19 @@ def lj_radius(s, mat):
     return mat["r0"] * (1.0 + mat["lj_slope"] * np.log(s_ik))
 
 
+def shape_stiffness(s, mat):
+    """k_S,i = k_S s_i^n per bead (n = k_S_exponent, 0 when absent: k_S at every s)."""
+    return mat.get("k_S", 0.0) * np.asarray(s, float) ** mat.get("k_S_exponent", 0.0)
+
+
+def shape_energy(xy, s, mat, cutoff):
+    """sum_i k_S,i/2 sum_k (x_ik - xbar_i)^2 over the neighbours k of each bead i."""
+    _, dist, adj = pair_geometry(xy, s, mat, cutoff)
+    xbar = np.where(adj, dist, 0.0).sum(axis=1) / np.maximum(adj.sum(axis=1), 1)
+    spread2 = np.where(adj, dist - xbar[:, None], 0.0) ** 2
+    return 0.5 * np.sum(shape_stiffness(s, mat) * spread2.sum(axis=1))
+
+
 def pair_geometry(xy, s, mat, cutoff):
     """Displacements d[i, k] = x_i - x_k, distances and the neighbour mask.
     ``cutoff`` is ("lj", factor): factor times the pair's LJ radius (the plugin's
@@ -70,9 +83,12 @@ def pair_forces(xy, v, s, c, mat, cutoff, turgor=True, perimeter=True, damping=T
     W_ab = sum over pairs of d_a F_b (F on i from k).
 
     With ``mat["k_S"]`` > 0, also the cell-shape force (an extension, not in the paper):
-    minus the gradient of k_S/2 sum_i sum_k (x_ik - xbar_i)^2, xbar_i the mean distance
-    of bead i to its neighbours; as sum_k (x_ik - xbar_i) = 0, the pair (i, k) gets
-    -k_S (2 x_ik - xbar_i - xbar_k) n."""
+    minus the gradient of sum_i k_S,i/2 sum_k (x_ik - xbar_i)^2, xbar_i the mean distance
+    of bead i to its neighbours and k_S,i = k_S s_i^n (n = ``mat["k_S_exponent"]``,
+    default 0). Differentiated here term by term: d/dx_ik of bead i's term is
+    k_S,i [(x_ik - xbar_i) - (1/N_i) sum_m (x_im - xbar_i)] = k_S,i (x_ik - xbar_i), and
+    x_ik also enters bead k's term, so the pair (i, k) gets
+    -[k_S,i (x_ik - xbar_i) + k_S,k (x_ik - xbar_k)] n."""
     d, dist, adj = pair_geometry(xy, s, mat, cutoff)
     safe = np.where(adj, dist, 1.0)
     nvec = d / safe[:, :, None]
@@ -81,7 +97,9 @@ def pair_forces(xy, v, s, c, mat, cutoff, turgor=True, perimeter=True, damping=T
         F += (c[:, None] + c[None, :])[:, :, None] * nvec
     if mat.get("k_S", 0.0) > 0.0:
         xbar = np.where(adj, dist, 0.0).sum(axis=1) / np.maximum(adj.sum(axis=1), 1)
-        F += (-mat["k_S"] * (2 * dist - xbar[:, None] - xbar[None, :]))[:, :, None] * nvec
+        k_s = shape_stiffness(s, mat)
+        spread_i = k_s[:, None] * (dist - xbar[:, None])   # bead i's term, d/dx_ik
+        F += -(spread_i + spread_i.T)[:, :, None] * nvec
     r = lj_radius(s, mat)
     q = r / safe
     lj = (q**8 - q**4) / safe**2

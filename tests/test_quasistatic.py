@@ -36,7 +36,8 @@ def energy_forces(lmp, xy):
 
 @pytest.mark.parametrize("seed,pair_args,overrides", [
     (3, "damping no", ""), (4, "damping no periphery no", ""),
-    (5, "damping no attraction no", ""), (6, "damping no", "k_S 0.5")])
+    (5, "damping no attraction no", ""), (6, "damping no", "k_S 0.5"),
+    (8, "damping no", "k_S 2.9 k_S_exponent 6")])
 def test_energy_gradient_is_minus_force(tmp_path, seed, pair_args, overrides):
     info = make_tissue(tmp_path, jitter=0.08, seed=seed, s=(0.3, 1.0))
     lmp = session(tmp_path, pair_args, overrides=overrides)

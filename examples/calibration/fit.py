@@ -19,7 +19,12 @@ Results in OUT (default results/calibration-mfc), one folder per fit:
   each fit started from the one before (continuation in dryness: started from apple's
   values, the three-level fit stops in a local minimum whose objective is 5 times larger);
 - ``kS``: the same four and the cell-shape stiffness k_S on every level, started from the
-  last ``paper-<n>`` fit and k_S = 0.02 N/m.
+  last ``paper-<n>`` fit and the start material's k_S (0.02 N/m when it has none); its
+  k_S_exponent (k_S(s) = k_S s^n) is held.
+
+``--material`` may be a path: a start material with a measured k_S(s) (k_S and k_S_exponent
+lines) is then held at it in the ``paper-<n>`` fits; ``--install-as NAME`` names the
+installed file (default <material>-mfc).
 
 ``--hold``: parameters of the paper's four kept at the start material's value, not fitted
 (k_T and k_PA are collinear on the converged levels: only their ratio is determined, and a
@@ -63,7 +68,13 @@ def main(argv=None):
     ap.add_argument("--hold", default="",
                     help="parameters kept at the start material's value (not fitted), comma "
                          "separated, e.g. k_T")
+    ap.add_argument("--direct", action="store_true",
+                    help="one paper fit on all levels from the start material, no "
+                         "continuation (for a start that is already near: the two-level "
+                         "fit alone can drift to values with no steady state at s = 0.6)")
     ap.add_argument("--install", action="store_true")
+    ap.add_argument("--install-as", help="name of the installed material file in potentials/ "
+                                         "(default <material>-mfc)")
     ap.add_argument("--install-fit", choices=("kS", "paper"), default="kS",
                     help="which fit --install writes: kS (default) or the last paper-<n> "
                          "fit, without k_S (when k_S is not determined)")
@@ -86,18 +97,20 @@ def main(argv=None):
         sys.exit(f"fit.py: no reference {', '.join(missing)}")
     if len(refs) < 2 or 1.0 not in refs:
         sys.exit(f"fit.py: need centroids.s1.txt and at least one dried level in {args.mfc}")
-    target = Path(f"potentials/{args.material}-mfc.cgms")
+    from cgms import material
+    start_material = material.read(material.find(args.material))
+    target = Path(f"potentials/{args.install_as or Path(args.material).stem + '-mfc'}.cgms")
     if args.install and target.exists():
         sys.exit(f"fit.py: {target} exists; move it away first")
     out = Path(args.out)
     data = out / "tissue.data"
     if not data.exists():   # the 86-bead tissue, as `cgms calibrate` builds it for apple
         out.mkdir(parents=True, exist_ok=True)
-        from cgms import material, tissue
-        x_ref = material.read(args.material)["x_ref"]
+        from cgms import tissue
+        x_ref = start_material["x_ref"]
         tissue.write_data(data, calibration_tissue(args.material), 3 * x_ref)
     start, levels = None, sorted(refs, reverse=True)
-    for n in range(2, len(levels) + 1):
+    for n in range(len(levels) if args.direct else 2, len(levels) + 1):
         use = {s: refs[s] for s in levels[:n]}
         result = calibrate.calibrate(data, args.material, use, out / f"paper-{n}", fitted,
                                      start=start,
@@ -107,7 +120,7 @@ def main(argv=None):
         report("paper", n, result)
         paper = result
     result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
-                                 start=dict(start, k_S=0.02),
+                                 start=dict(start, k_S=start_material.get("k_S") or 0.02),
                                  bounds={k: BOUNDS[k] for k in fitted + ["k_S"]},
                                  align_mode="rigid", max_evaluations=80)
     report("kS", len(refs), result)

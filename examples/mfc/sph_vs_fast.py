@@ -7,8 +7,16 @@ one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
     source build/env.sh
     /usr/bin/python3 examples/mfc/sph_vs_fast.py [cells: 1 or 7] [levels, e.g. 1,0.8]
     /usr/bin/python3 examples/mfc/sph_vs_fast.py 7 0.8,0.6,0.3 --from-fast [--kick 0.5]
+    /usr/bin/python3 examples/mfc/sph_vs_fast.py 1 --ap 0.2 --kernel wendland [--path density]
 
-Default: both models dried along the same ramp from the fresh cell(s). ``--from-fast``:
+Default: both models dried along the same ramp from the fresh cell(s); ``--path`` is how
+SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with the
+fluid, or "density", the fluid put in tension, the route before), ``--ap`` Monaghan's
+artificial pressure factor and ``--kernel`` the kernel (both: pair sph/taitwater/ap;
+default LAMMPS's sph/taitwater/morris). Per level it prints also the SPH fluid: its area
+sum m/rho, the layer between it and the wall, the share of the ring it leaves void, the
+mean distance to the nearest fluid particle over the spacing (pairing) and the pressures.
+``--from-fast``:
 the SPH model started from the fast variant's steady state of each level (every ring
 filled with SPH fluid at rest, ``cgms.mfc_sph.write_state``), walls optionally kicked at
 random by up to ``--kick`` um, and run ``--steps`` steps: does SPH stay there (or come
@@ -29,6 +37,7 @@ from cgms import mfc_metrics, mfc_model, mfc_run, mfc_sph, mfc_tissue, run
 STEPS = 2000          # SPH steps per chunk (4 us at dt = 2 ns)
 STAGE_STEPS = 4000    # SPH steps per ramp stage
 TOL = 1e-4            # SPH steady: cell areas change by less than this over a chunk
+SHIFT = 0.05e-6       # ... and (more than one cell) no centroid moves more than this, m
 
 
 def cluster(n):
@@ -57,7 +66,6 @@ def from_fast(folder, p, s, walls, colour, pressure, steps, kick):
     sph.commands_list(mfc_sph.level_commands(p, s, mf=state["fluid_mass"]) + ["timestep 2e-9"])
     if kick:
         sph.command(f"displace_atoms wall random {kick * 1e-6:.6g} {kick * 1e-6:.6g} 0 7 units box")
-    rho_r, c0 = mfc_sph.tait(p, s)
     cf = mfc_metrics.cells(walls, p["n_wall"])
     nw, dx = len(walls), p["fluid_spacing"] * math.sqrt(s)
     done = 0
@@ -66,7 +74,7 @@ def from_fast(folder, p, s, walls, colour, pressure, steps, kick):
         done += STAGE_STEPS
         xy, rho = sph_state(sph, p)
         cs = mfc_metrics.cells(xy, p["n_wall"])
-        pf = c0 * c0 * rho_r / 7 * ((rho[nw:] / rho_r) ** 7 - 1) / p["height"]
+        pf = mfc_sph.pressure(p, s, rho[nw:])
         x = mfc_run.positions(sph)[nw:]
         near = cKDTree(x).query(x, 2)[0][:, 1]
         print(f"    {done:6d} steps: area {np.abs(cs['area'] / cf['area'] - 1).max():.4%}, "
@@ -85,9 +93,14 @@ def main():
     parser.add_argument("--from-fast", action="store_true")
     parser.add_argument("--steps", type=int, default=60000)
     parser.add_argument("--kick", type=float, default=0.0, help="um")
+    parser.add_argument("--path", choices=mfc_sph.PATHS, default="affine")
+    parser.add_argument("--ap", type=float, default=0.0, help="artificial pressure epsilon")
+    parser.add_argument("--kernel", choices=("lucy", "wendland"), default="lucy")
+    parser.add_argument("--chunks", type=int, default=200,
+                        help="most chunks of %d SPH steps per level" % STEPS)
     args = parser.parse_args()
     ncell, levels = args.cells, [float(s) for s in args.levels.split(",")]
-    p = mfc_model.parameters()
+    p = mfc_model.parameters(sph_ap=args.ap, sph_kernel=args.kernel)
     centres = cluster(ncell)
     folder = Path(tempfile.mkdtemp(prefix="mfc-sph-"))
     # the fast variant (one LAMMPS instance at a time: the plugin loads once per process)
@@ -123,33 +136,34 @@ def main():
     sph.commands_list(mfc_sph.setup_commands(folder / "sph.data", p))
     sph.commands_list(mfc_sph.level_commands(p, 1.0) + ["timestep 2e-9"])
     s_now = 1.0
-    print(f"{ncell} cell(s); SPH tau = {mfc_sph.TAU:g} s; folder {folder}")
+    print(f"{ncell} cell(s); SPH tau = {mfc_sph.TAU:g} s, {' '.join(mfc_sph.fluid_style(p))}, "
+          f"path {args.path}; folder {folder}")
     print("   s   model   area/A0   perim/P0   centroid shift (um)   P_fluid (kPa)   seconds")
     for s in levels:
         t = time.perf_counter()
         for stage in mfc_run.stages(s_now, s, 0.05) + ([s] if s != s_now else []):
-            mfc_sph.dry(sph, p, stage, s_now)
+            mfc_sph.dry(sph, p, stage, s_now, path=args.path)
             s_now = stage
             sph.command(f"run {STAGE_STEPS}")
-        area = mfc_metrics.cells(sph_state(sph, p)[0], p["n_wall"])["area"]
+        cells = mfc_metrics.cells(sph_state(sph, p)[0], p["n_wall"])
         steps = 0
         while True:
             sph.command(f"run {STEPS}")
             steps += STEPS
-            new = mfc_metrics.cells(sph_state(sph, p)[0], p["n_wall"])["area"]
-            change = np.abs(new / area - 1).max()
-            area = new
-            if change < TOL or steps >= 200 * STEPS:
+            new = mfc_metrics.cells(sph_state(sph, p)[0], p["n_wall"])
+            change = np.abs(new["area"] / cells["area"] - 1).max()
+            shift = np.hypot(*(new["centroid"] - cells["centroid"]).T).max()
+            cells = new
+            # a single cell's centroid drifts with its fluid's noise; a cluster's must settle
+            if (change < TOL and (ncell == 1 or shift < SHIFT)) or steps >= args.chunks * STEPS:
                 break
         ts = time.perf_counter() - t
-        xs, rho = sph_state(sph, p)
+        fl = mfc_sph.fluid_state(sph, p, s)
+        xs = fl["walls"]
         xf, tf, ok, _ = results[s]
-        rho_r, c0 = mfc_sph.tait(p, s)
-        b = c0 * c0 * rho_r / 7
-        pf = b * ((rho[len(xs):] / rho_r) ** 7 - 1) / p["height"]
         cf, cs = mfc_metrics.cells(xf, p["n_wall"]), mfc_metrics.cells(xs, p["n_wall"])
         for name, c, sec in (("fast", cf, tf), ("SPH", cs, ts)):
-            pk = f"{pf.mean() / 1e3:8.1f}" if name == "SPH" else "     -  "
+            pk = f"{fl['pressure'].mean() / 1e3:8.1f}" if name == "SPH" else "     -  "
             print(f"  {s:4.2f}  {name:5s}  {c['area'].mean() / p['A_ref']:.4f}   "
                   f"{c['perimeter'].mean() / (math.pi * p['diameter']):.4f}   "
                   f"{np.hypot(*(c['centroid'] - np.asarray(centres)).T).max() * 1e6:8.3f}"
@@ -159,7 +173,13 @@ def main():
         dc = np.hypot(*(cs["centroid"] - cf["centroid"]).T).max()
         print(f"        SPH vs fast: area {da:.2%}, perimeter {dp:.2%}, centroids {dc * 1e6:.3f} um "
               f"({dc / p['x_ref']:.2%} of x_ref); SPH {steps} steps to steady "
-              f"(last area change {change:.1e}); fast converged {ok}", flush=True)
+              f"(last chunk: area change {change:.1e}, centroid shift {shift * 1e6:.3f} um); "
+              f"fast converged {ok}", flush=True)
+        print(f"        SPH fluid: area/A0 {fl['fluid'].mean() / p['A_ref']:.4f}, layer "
+              f"{fl['layer'].mean() * 1e6:.2f} um, void {fl['void'].max():.2%}, nearest "
+              f"neighbour {fl['nearest'].min():.2f} spacings, P {fl['pressure'].mean() / 1e3:.1f}"
+              f" +- {fl['pressure_sd'].mean() / 1e3:.1f} kPa, walls "
+              f"{fl['wall_pressure'].mean() / 1e3:.1f} kPa", flush=True)
     sph.close()
 
 

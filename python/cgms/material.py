@@ -30,6 +30,7 @@ PARAMETERS = {
     "P_f": ("> 0", True), "Pi_f": ("< 0", True), "K": ("> 0", True),
     "turgid_ratio": ("> 0", True), "rho0": ("> 0", True), "L_p": ("> 0", True),
     "solid_ratio": (">= 0", True), "k_S": (">= 0", False),
+    "k_S_exponent": (">= 0", False),
 }
 #: quantities derived from the parameters (not read from a file)
 DERIVED = ("A_ref", "b_ref", "l_ref", "x_ref")

@@ -20,13 +20,30 @@ viscosity mu H; masses are real slab masses, so forces are in N.
 import math
 
 import numpy as np
+from scipy.spatial import cKDTree
 
-from . import folders, mfc_run, mfc_tissue, tissue
+from . import folders, mfc_metrics, mfc_run, mfc_tissue, tissue
 from .mfc_model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
-SUPPORT = 13.0e-6    # Lucy kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
+SUPPORT = 13.0e-6    # kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
 TAU = 2.0e-7         # damping time of fix viscous, s (2 us: the fresh cell inflates, doc/mfc.md)
+
+
+def fluid_style(p):
+    """``(style, settings)`` of the SPH fluid's pair style, chosen by two optional
+    parameters: ``sph_ap`` (Monaghan's artificial pressure factor epsilon; 0 = off) and
+    ``sph_kernel`` ("lucy" or "wendland"). Both at their defaults: LAMMPS's own
+    sph/taitwater/morris; otherwise the plugin's sph/taitwater/ap
+    (doc/pair_sph_taitwater_ap.rst), which holds the fluid in tension."""
+    ap, kernel = p.get("sph_ap", 0.0), p.get("sph_kernel", "lucy")
+    if kernel not in ("lucy", "wendland"):
+        raise ValueError(f"sph_kernel must be lucy or wendland, got {kernel!r}")
+    if not ap >= 0:
+        raise ValueError(f"sph_ap (artificial pressure factor) must be >= 0, got {ap!r}")
+    if ap == 0 and kernel == "lucy":
+        return "sph/taitwater/morris", ""
+    return "sph/taitwater/ap", f"kernel {kernel} epsilon {ap:g}"
 
 
 def tait(p, s):
@@ -37,6 +54,13 @@ def tait(p, s):
     b = p["K"] - pt
     rho_r = p["rho0"] * (1 - pt / p["K"]) ** (1 / 7)
     return rho_r * p["height"], math.sqrt(7 * b / rho_r)
+
+
+def pressure(p, s, rho):
+    """Pressure (Pa) of SPH particles of areal density ``rho`` at level s: LAMMPS's Tait EOS
+    B [(rho/rho_r)^7 - 1] per slab height, B = c0^2 rho_r / 7."""
+    rho_r, c0 = tait(p, s)
+    return c0 * c0 * rho_r / 7 * ((np.asarray(rho) / rho_r) ** 7 - 1) / p["height"]
 
 
 def fluid_mass(p):
@@ -133,7 +157,7 @@ def setup_commands(data, p, newton="on", processors=None):
              "group wall type 1 2 3", "group fluid type 4 5 6",
              "special_bonds lj 1.0 1.0 1.0", "bond_style harmonic", "angle_style harmonic",
              f"angle_coeff 1 {p['k_bend'] / 2:.10g} 180.0",
-             f"pair_style hybrid/overlay sph/taitwater/morris nm/cut {p['lamella_rc']:.10g}"]
+             f"pair_style hybrid/overlay {' '.join(fluid_style(p))} nm/cut {p['lamella_rc']:.10g}"]
     rep = f"nm/cut {p['self_E0']:.10g} {p['self_r0']:.10g} 8 4 {p['self_r0']:.10g}"
     lam = f"nm/cut {p['lamella_E0']:.10g} {p['pectin']:.10g} 8 4 {p['lamella_rc']:.10g}"
     for i in (1, 2, 3):
@@ -152,9 +176,13 @@ def setup_commands(data, p, newton="on", processors=None):
 
 
 def sph_commands(p, s):
-    """SPH coefficients of level s: the EOS (through rho_r and c0) and the viscosity."""
+    """SPH coefficients of level s: the EOS (through rho_r and c0) and the viscosity; for
+    sph/taitwater/ap also the fluid spacing of level s, ``fluid_spacing * sqrt(s)``."""
     rho, c0 = tait(p, s)
-    coef = f"sph/taitwater/morris {rho:.10g} {c0:.10g} {MU * p['height']:.10g} {SUPPORT:.10g}"
+    style = fluid_style(p)[0]
+    coef = f"{style} {rho:.10g} {c0:.10g} {MU * p['height']:.10g} {SUPPORT:.10g}"
+    if style == "sph/taitwater/ap":
+        coef += f" {p['fluid_spacing'] * math.sqrt(s):.10g}"
     return [f"pair_coeff {c} {c + 3} {coef}" for c in (1, 2, 3)] + \
         [f"pair_coeff {c} {c} {coef}" for c in (4, 5, 6)]
 
@@ -170,17 +198,73 @@ def level_commands(p, s, mf=None):
         f"fix dw wall viscous {mw / TAU:.10g}", f"fix df fluid viscous {mf / TAU:.10g}"]
 
 
-def dry(lmp, p, s, s_old):
-    """Dry from ``s_old`` to ``s``: masses and densities of fluid and wall scaled by
-    s / s_old together, so SPH volumes m/rho are unchanged and the pressure drops until
-    the cell has contracted to its new fluid mass; then :func:`level_commands`. Works on
-    each rank's own particles (run under mpirun, every rank executes it)."""
+#: the ways :func:`dry` takes a drying stage (doc/mfc.md, "An SPH drying path")
+PATHS = ("density", "affine")
+
+
+def dry(lmp, p, s, s_old, path="affine"):
+    """Dry from ``s_old`` to ``s``, then :func:`level_commands`. ``path`` "density" (the
+    route before, which reaches the fast variant's states only at s = 1): masses
+    and densities of fluid and wall scaled by s / s_old together, so SPH volumes m/rho are
+    unchanged and the fluid goes into tension (-6 MPa for a stage of 0.05) until the cells
+    have contracted to their new fluid mass. "affine": masses scaled, densities kept, and
+    every particle moved towards the tissue's centroid by sqrt(s / s_old), so the fluid
+    stays at its pressure and packing in the smaller area, and the walls, now compressed
+    against their contracted rest length, fold (the default: it reaches the fast
+    variant's states within 0.2-2 % in area at s = 0.8-0.3, doc/mfc.md). Works on each
+    rank's own particles (run under mpirun, every rank executes it)."""
+    if path not in PATHS:
+        raise ValueError(f"path must be one of {', '.join(PATHS)}, got {path!r}")
     nlocal = lmp.extract_global("nlocal")
-    rho = lmp.numpy.extract_atom("rho")
-    rho[:nlocal] *= s / s_old
+    if path == "density":
+        rho = lmp.numpy.extract_atom("rho")
+        rho[:nlocal] *= s / s_old
+    else:
+        centre = wall_positions(lmp, p).mean(axis=0)
+        x = lmp.numpy.extract_atom("x")
+        x[:nlocal, :2] = centre + (x[:nlocal, :2] - centre) * math.sqrt(s / s_old)
     lmp.commands_list(level_commands(p, s))
 
 
 def wall_positions(lmp, p):
     """Wall particle positions (n_cells * n_wall, 2), by atom ID."""
     return mfc_run.positions(lmp)[: lmp.extract_global("nbonds")]
+
+
+def fluid_state(lmp, p, s):
+    """The SPH state of every cell at level ``s``, gathered from all ranks: wall positions
+    (by atom ID) and per cell arrays ``fluid`` (its particles' area sum m/rho, m^2), ``ring``
+    (the area its wall encloses), ``layer`` ((ring - fluid) / wall perimeter: the mean
+    width between wall and fluid, m), ``void`` (share of the ring farther than one fluid
+    spacing of level s from every fluid particle: holes the fluid left), ``nearest`` (mean
+    distance to the nearest fluid particle of the cell over that spacing: a fluid that
+    pairs up falls towards 0), ``pressure`` and ``pressure_sd`` (its particles' Tait
+    pressure, Pa) and the walls' mean ``wall_pressure`` (Pa)."""
+    n = lmp.get_natoms()
+    x = np.array(lmp.gather_atoms("x", 1, 3), float).reshape(n, 3)[:, :2]
+    rho = np.array(lmp.gather_atoms("rho", 1, 1), float)
+    mol = np.array(lmp.gather_atoms("molecule", 0, 1))
+    kind = np.array(lmp.gather_atoms("type", 0, 1))
+    mass = lmp.numpy.extract_atom("mass")[kind]
+    nw = lmp.extract_global("nbonds")
+    walls = x[:nw]
+    cells = mfc_metrics.cells(walls, p["n_wall"])
+    press = pressure(p, s, rho)
+    dx = p["fluid_spacing"] * math.sqrt(s)
+    out = {k: np.empty(len(cells["area"])) for k in (
+        "fluid", "void", "nearest", "pressure", "pressure_sd", "wall_pressure")}
+    for c, ring in enumerate(walls.reshape(-1, p["n_wall"], 2)):
+        own = np.flatnonzero((mol == c + 1) & (np.arange(n) >= nw))
+        tree = cKDTree(x[own])
+        out["fluid"][c] = (mass[own] / rho[own]).sum()
+        out["nearest"][c] = tree.query(x[own], 2)[0][:, 1].mean() / dx
+        lo, hi = ring.min(axis=0), ring.max(axis=0)
+        g = [np.arange(lo[k], hi[k], dx / 8) for k in (0, 1)]
+        grid = np.stack(np.meshgrid(*g), axis=-1).reshape(-1, 2)
+        grid = grid[tissue._inside(grid, ring, 0.0, closed=False)]
+        out["void"][c] = np.mean(tree.query(grid)[0] > dx)
+        out["pressure"][c], out["pressure_sd"][c] = press[own].mean(), press[own].std()
+        out["wall_pressure"][c] = press[c * p["n_wall"]:(c + 1) * p["n_wall"]].mean()
+    out.update(walls=walls, ring=cells["area"],
+               layer=(cells["area"] - out["fluid"]) / cells["perimeter"])
+    return out

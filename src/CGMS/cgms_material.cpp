@@ -59,6 +59,10 @@ const Entry entries[] = {
     // neighbour distances, which gives the lattice the shear stiffness the paper's
     // forces lack (doc/pair_cgms.rst)
     {"k_S", &CGMS::Material::k_S, NONNEGATIVE, false},
+    // k_S(s) = k_S s^n: the fine model's shear stiffness is borne by turgor and falls
+    // with the dryness (to 0.28 at s = 0.8, 0.05 at 0.6: n of about 6, doc/calibration.md);
+    // n >= 0 keeps k_S(s) <= k_S below s = 1, which the time-step check relies on
+    {"k_S_exponent", &CGMS::Material::k_S_exponent, NONNEGATIVE, false},
 };
 constexpr int NENTRIES = sizeof(entries) / sizeof(entries[0]);
 

@@ -8,6 +8,7 @@
 #ifndef LMP_CGMS_MATERIAL_H
 #define LMP_CGMS_MATERIAL_H
 
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,6 +44,7 @@ namespace CGMS {
     double L_p = 0.0;             // membrane conductivity (m/(Pa s))
     double solid_ratio = 0.0;     // m_s / m_f at any dryness (paper: 10 %)
     double k_S = 0.0;             // cell-shape stiffness (N/m); not in the paper, 0 = off
+    double k_S_exponent = 0.0;    // n of k_S(s) = k_S s^n; 0 = the same k_S at every dryness
 
     unsigned long given = 0;    // bit k set: parameter k was given
 
@@ -62,6 +64,11 @@ namespace CGMS {
 
     double beta(double s) const;
     double lj_radius(double s) const;
+    // cell-shape stiffness of a bead of dryness s, k_S s^n (exactly k_S when n = 0)
+    double shape_stiffness(double s) const
+    {
+      return k_S_exponent == 0.0 ? k_S : k_S * pow(s, k_S_exponent);
+    }
   };
 
 }    // namespace CGMS

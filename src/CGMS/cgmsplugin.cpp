@@ -20,6 +20,7 @@
 #include "fix_mfc_pressure.h"
 #include "lammps.h"
 #include "pair_cgms.h"
+#include "pair_sph_taitwater_ap.h"
 #include "version.h"
 
 #include <cstring>
@@ -29,6 +30,11 @@ using namespace LAMMPS_NS;
 static Pair *pair_cgms_creator(LAMMPS *lmp)
 {
   return new PairCGMS(lmp);
+}
+
+static Pair *pair_sph_taitwater_ap_creator(LAMMPS *lmp)
+{
+  return new PairSPHTaitwaterAP(lmp);
 }
 
 static Fix *fix_cgms_fluid_creator(LAMMPS *lmp, int argc, char **argv)
@@ -75,6 +81,11 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
   plugin.info =
       "CGMS pair style: turgor, perimeter, damping and LJ forces between plant-cell beads";
   plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_cgms_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "sph/taitwater/ap";
+  plugin.info = "MFC pair style: SPH Tait water with Monaghan's artificial pressure";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_sph_taitwater_ap_creator;
   (*register_plugin)(&plugin, lmp);
 
   plugin.style = "fix";

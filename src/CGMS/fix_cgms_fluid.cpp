@@ -88,6 +88,7 @@ inline double cell_side(double nn, double sum_r, double beta, double pectin, dou
 // what depends on the dryness alone: recomputed when it changes from one bead to the next
 struct DrynessLaws {
   double s = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
+  double kS = 0.0;    // cell-shape stiffness k_S(s)
 
   void set(double s_new, const Material &mat, int periphery)
   {
@@ -97,6 +98,7 @@ struct DrynessLaws {
     P_ref = s * mat.P_f;
     Pi = s * mat.Pi_f;
     ld_factor = 1.0 - mat.perim_a / mat.perim_b * (1.0 - s);
+    kS = mat.shape_stiffness(s);
   }
   // q^7 = (rho / rho_ref)^7 and the Tait pressure of eqn (4)
   double q7(double rho) const
@@ -121,7 +123,8 @@ inline double pair_coefficient(double kT, double kPA, double P_f, double press, 
    neighbours, for the forces that are switched on: relative-velocity damping
    2 m / (1.5 N k_d), turgor 2 / omega with omega^2 = 56 k_T K q^7 / (m sum_gap)
    (q = rho/rho_ref, sum_gap = sum_k (x_k - d_p)), cell-shape springs
-   sqrt(m / (2 k_S N)). The per-step checks (fluid_pass) use the *_exceeded
+   sqrt(m / (2 k_S N)), with the fresh k_S, the largest k_S(s) (an upper bound
+   when k_S falls with the dryness). The per-step checks (fluid_pass) use the *_exceeded
    forms, which compare without a division; f_ID[5] and the errors the limits.
 ------------------------------------------------------------------------- */
 
@@ -1025,7 +1028,7 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
     coef[i] = pair_coefficient(kT, kPA, P_f, press, perim, ldeq);
     // the cell-shape term's share of bead i, k_S xbar_i (xbar_i = sum_k x_ik / N);
     // the per-atom output keeps the paper's turgor and perimeter coefficient
-    if (kS > 0.0 && nn > 0.0) coef[i] += kS * sums[2 * i + 1] / nn;
+    if (kS > 0.0 && nn > 0.0) coef[i] += at.kS * sums[2 * i + 1] / nn;
     // with the pressures held, turgor and perimeter forces are the gradient of
     //   E_i = -k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i),
     // g_i = dl_i/dx_ik = (N + beta max(0, 6 - N)) / (sqrt(3) N), as long as no
@@ -1036,10 +1039,11 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
       energy_local +=
           -0.5 * kT * (press - P_f) * sums[2 * i + 1] + 0.25 * kPA * excess * excess / dl_dx;
     }
-    // The cell-shape energy k_S/2 sum_k (x_ik - xbar_i)^2 does not depend on the
-    // pressures: it is a potential in any run. Its -k_S/2 N xbar_i^2 here, its sum
-    // over pairs of k_S x^2 in shape_pair_energy()
-    if (shape_energy && nn > 0.0) energy_local -= 0.5 * kS * sums[2 * i + 1] * sums[2 * i + 1] / nn;
+    // The cell-shape energy k_S(s_i)/2 sum_k (x_ik - xbar_i)^2 does not depend on the
+    // pressures: it is a potential in any run. Its -k_S(s_i)/2 N xbar_i^2 here, its
+    // sum over pairs of (k_S(s_i) + k_S(s_k))/2 x^2 in shape_pair_energy()
+    if (shape_energy && nn > 0.0)
+      energy_local -= 0.5 * at.kS * sums[2 * i + 1] * sums[2 * i + 1] / nn;
     if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
     // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
     // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
@@ -1070,7 +1074,7 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
       unstable = i;
   }
 
-  if (shape_energy) energy_local += shape_pair_energy(kS);
+  if (shape_energy) energy_local += shape_pair_energy();
 
   trouble.isolated = isolated;
   trouble.nonfinite = nonfinite;
@@ -1321,11 +1325,18 @@ void FixCGMSFluid::damping_limit_error(int i)
 
 /* ---------------------------------------------------------------------- */
 
-double FixCGMSFluid::shape_pair_energy(double kS) const
+double FixCGMSFluid::shape_pair_energy() const
 {
-  // sum over neighbour pairs of k_S x^2 (x counted once from each end), from the
-  // distances pass 1 cached per entry of the half list (0: beyond the cutoff);
-  // without newton_pair a pair with a ghost is in the lists of both of its ranks
+  // sum over neighbour pairs of (k_S(s_i) + k_S(s_k))/2 x^2 (x counted once from
+  // each end), from the distances pass 1 cached per entry of the half list (0:
+  // beyond the cutoff); without newton_pair a pair with a ghost is in the lists of
+  // both of its ranks. k_S(s) differs between beads only with an exponent and a
+  // dryness that varies (then forwarded to the ghosts, see pre_force)
+  const Material &mat = pair->material();
+  const double s_uniform = pair->get_uniform_dryness();
+  const int by_bead = mat.k_S_exponent != 0.0 && s_uniform <= 0.0;
+  const double kS = by_bead ? 0.0 : mat.shape_stiffness(s_uniform > 0.0 ? s_uniform : 1.0);
+  double **cg = bead_array(lmp);
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   double energy = 0.0;
@@ -1333,10 +1344,12 @@ double FixCGMSFluid::shape_pair_energy(double kS) const
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
     const int *jlist = list->firstneigh[i];
+    const double kSi = by_bead ? mat.shape_stiffness(cg[i][DRYNESS]) : kS;
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const double r = rdist[k++];
       const int j = jlist[jj] & NEIGHMASK;
-      energy += (newton_pair || j < nlocal ? 1.0 : 0.5) * kS * r * r;
+      const double kS_pair = by_bead ? 0.5 * (kSi + mat.shape_stiffness(cg[j][DRYNESS])) : kS;
+      energy += (newton_pair || j < nlocal ? 1.0 : 0.5) * kS_pair * r * r;
     }
   }
   return energy;

@@ -119,7 +119,7 @@ class FixCGMSFluid : public Fix {
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
   const double *per_bead_values(int, double);
-  double shape_pair_energy(double) const;
+  double shape_pair_energy() const;
   void apply_dryness();
   void refresh_ghost_dryness();
   bigint load_data_file_state();

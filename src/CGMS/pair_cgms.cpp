@@ -213,7 +213,10 @@ void PairCGMS::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
 
   const int lj = (repulsion ? LJ_REPULSION : 0) | (attraction ? LJ_ATTRACTION : 0);
-  const int pc = pair_coefficient_needed() ? 1 : 0;
+  // 2: the cell-shape stiffness differs between beads, k_S(s_i) with s_i varying
+  const int pc = !pair_coefficient_needed()                                   ? 0
+      : mat.k_S > 0.0 && mat.k_S_exponent != 0.0 && uniform_dryness <= 0.0 ? 2
+                                                                            : 1;
 
   // every combination of effects gets its own loop, so a switched-off effect
   // costs neither flops nor branches in the inner loop
@@ -228,7 +231,9 @@ void PairCGMS::compute(int eflag, int vflag)
   CGMS_DISPATCH_LJ(EV, 0, 0)  \
   CGMS_DISPATCH_LJ(EV, 0, 1)  \
   CGMS_DISPATCH_LJ(EV, 1, 0)  \
-  CGMS_DISPATCH_LJ(EV, 1, 1)
+  CGMS_DISPATCH_LJ(EV, 1, 1)  \
+  CGMS_DISPATCH_LJ(EV, 2, 0)  \
+  CGMS_DISPATCH_LJ(EV, 2, 1)
   CGMS_DISPATCH_ALL(0)
   CGMS_DISPATCH_ALL(1)
 #undef CGMS_DISPATCH_ALL
@@ -241,7 +246,9 @@ void PairCGMS::compute(int eflag, int vflag)
      turgor + perimeter: (c_i + c_k) n, c from fix cgms/fluid
      LJ:                 f0 [(r/x)^8 - (r/x)^4] / x^2 (x_i - x_k)
      damping:           -k_d (v_i - v_k)
-     cell shape:        -k_S (2 x - xbar_i - xbar_k) n, k_S xbar_i inside c_i
+     cell shape:        -(k_S,i (x - xbar_i) + k_S,k (x - xbar_k)) n, k_S,i xbar_i
+                        inside c_i; k_S,i = k_S s_i^n
+   PAIRCOEF 0: no coefficient, 1: one k_S(s) for all beads, 2: k_S(s_i) per bead
    the LJ energy U = f0 [(r/x)^8/8 - (r/x)^4/4] plus constants that keep it
    continuous at x = r
 ------------------------------------------------------------------------- */
@@ -268,9 +275,10 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const double f0r = mat.f0_r;
   const double f0a = mat.f0_a;
   const double kd = mat.k_d;
-  // cell-shape stiffness: -k_S (2 x - xbar_i - xbar_k) n, of which the fix puts
-  // k_S xbar_i into the pair coefficient of bead i
-  const double shape_spring = 2.0 * mat.k_S;
+  // cell-shape stiffness: -(k_S,i (x - xbar_i) + k_S,k (x - xbar_k)) n, of which the
+  // fix puts k_S,i xbar_i into the pair coefficient of bead i; one k_S(s) for all
+  // pairs unless PAIRCOEF == 2 (any bead's dryness then gives its k_S(s_i))
+  const double shape_spring = 2.0 * mat.shape_stiffness(uniform ? uniform_dryness : 1.0);
   // constant added inside x <= r so that U is continuous at x = r
   // (U there is -f0_a/8 with attraction on, 0 without; U is not shifted at the cutoff)
   const double e_in =
@@ -280,7 +288,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
-  double s_last = -1.0, rad_last = 0.0;
+  double s_last = -1.0, rad_last = 0.0, kS_last = 0.0;
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -291,14 +299,16 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     const double vyi = v[i][1];
     // with a uniform dryness the loop never touches the per-bead row (a cache
     // line per bead on large tissues); else one log per change of s, not per bead
-    double si = 0.0, radi = rad_uniform;
+    double si = 0.0, radi = rad_uniform, kSi = 0.0;
     if (!uniform) {
       si = cg[i][CGMS::DRYNESS];
       if (si != s_last) {
         s_last = si;
         rad_last = mat.lj_radius(si);
+        if (PAIRCOEF == 2) kS_last = mat.shape_stiffness(si);
       }
       radi = rad_last;
+      kSi = kS_last;
     }
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
@@ -333,7 +343,11 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
 
       double fpair = 0.0;
       double evdwl = 0.0;
-      if (PAIRCOEF) fpair += (ci + coef[j]) * r1inv - shape_spring;
+      if (PAIRCOEF == 1) fpair += (ci + coef[j]) * r1inv - shape_spring;
+      if (PAIRCOEF == 2) {
+        const double sj = cg[j][CGMS::DRYNESS];
+        fpair += (ci + coef[j]) * r1inv - kSi - (sj == si ? kSi : mat.shape_stiffness(sj));
+      }
       if (LJ) {
         const double q2 = rad * rad * r2inv;
         const double q4 = q2 * q2;

@@ -1,0 +1,381 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   The pressure, viscosity and density terms follow LAMMPS's
+   pair sph/taitwater/morris (src/SPH); added here: Monaghan's artificial
+   pressure and Wendland's C2 kernel.
+------------------------------------------------------------------------- */
+
+#include "pair_sph_taitwater_ap.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "math_const.h"
+#include "math_special.h"
+#include "memory.h"
+#include "neigh_list.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using MathConst::MY_PI;
+using MathSpecial::powint;
+
+/* ---------------------------------------------------------------------- */
+
+PairSPHTaitwaterAP::PairSPHTaitwaterAP(LAMMPS *lmp) :
+    Pair(lmp), kernel(LUCY), epsilon(0.2), exponent(4), rho0(nullptr), soundspeed(nullptr),
+    B(nullptr), cut(nullptr), viscosity(nullptr), spacing(nullptr), wdp_inv(nullptr)
+{
+  if ((atom->esph_flag != 1) || (atom->rho_flag != 1) || (atom->vest_flag != 1))
+    error->all(FLERR,
+               "Pair sph/taitwater/ap requires atom attributes energy, density, and velocity "
+               "estimates, e.g. in atom_style sph");
+
+  restartinfo = 1;
+  single_enable = 0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+PairSPHTaitwaterAP::~PairSPHTaitwaterAP()
+{
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+
+    memory->destroy(rho0);
+    memory->destroy(soundspeed);
+    memory->destroy(B);
+    memory->destroy(cut);
+    memory->destroy(viscosity);
+    memory->destroy(spacing);
+    memory->destroy(wdp_inv);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the kernel's shape w(q), q = r/h, without its normalisation: the
+   artificial pressure needs only the ratio W(r)/W(dp)
+------------------------------------------------------------------------- */
+
+double PairSPHTaitwaterAP::shape(double q) const
+{
+  const double u = 1.0 - q;
+  if (kernel == WENDLAND) return (1.0 + 4.0 * q) * u * u * u * u;
+  return (1.0 + 3.0 * q) * u * u * u;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+
+  double **v = atom->vest;
+  double **x = atom->x;
+  double **f = atom->f;
+  double *rho = atom->rho;
+  double *mass = atom->mass;
+  double *desph = atom->desph;
+  double *drho = atom->drho;
+  int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+  const int dim3 = domain->dimension == 3;
+
+  // dW/dr / r = norm (1 - q)^k / h^(dim+2): Lucy k = 2, Wendland C2 k = 3
+  double norm;
+  if (kernel == WENDLAND)
+    norm = dim3 ? -210.0 / MY_PI : -140.0 / MY_PI;
+  else
+    norm = dim3 ? -315.0 / (4.0 * MY_PI) : -60.0 / MY_PI;
+
+  const int inum = list->inum;
+  int *ilist = list->ilist;
+  int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const double xtmp = x[i][0];
+    const double ytmp = x[i][1];
+    const double ztmp = x[i][2];
+    const int itype = type[i];
+    int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    const double imass = mass[itype];
+
+    // P_i / rho_i^2 from the Tait EOS; the artificial pressure R_i acts only in tension
+    double tmp = rho[i] / rho0[itype];
+    double fi = tmp * tmp * tmp;
+    fi = B[itype] * (fi * fi * tmp - 1.0) / (rho[i] * rho[i]);
+    const double ri = fi < 0.0 ? -epsilon * fi : 0.0;
+
+    for (int jj = 0; jj < jnum; jj++) {
+      int j = jlist[jj];
+      j &= NEIGHMASK;
+
+      const double delx = xtmp - x[j][0];
+      const double dely = ytmp - x[j][1];
+      const double delz = ztmp - x[j][2];
+      const double rsq = delx * delx + dely * dely + delz * delz;
+      const int jtype = type[j];
+
+      if (rsq >= cutsq[itype][jtype]) continue;
+
+      const double jmass = mass[jtype];
+      const double h = cut[itype][jtype];
+      const double q = sqrt(rsq) / h;
+      const double u = 1.0 - q;
+      const double h2 = h * h;
+      // the factor r that wfd lacks is recovered by using delx, not delx/r (as LAMMPS's SPH)
+      double wfd = norm / (h2 * h2) * u * u;
+      if (kernel == WENDLAND) wfd *= u;
+      if (dim3) wfd /= h;
+
+      tmp = rho[j] / rho0[jtype];
+      double fj = tmp * tmp * tmp;
+      fj = B[jtype] * (fj * fj * tmp - 1.0) / (rho[j] * rho[j]);
+      const double rj = fj < 0.0 ? -epsilon * fj : 0.0;
+
+      // Monaghan's artificial pressure: (R_i + R_j) (W(r)/W(dp))^n
+      double art = 0.0;
+      if (ri + rj > 0.0) art = (ri + rj) * powint(shape(q) * wdp_inv[itype][jtype], exponent);
+
+      const double velx = v[i][0] - v[j][0];
+      const double vely = v[i][1] - v[j][1];
+      const double velz = v[i][2] - v[j][2];
+      const double delVdotDelR = delx * velx + dely * vely + delz * velz;
+
+      // Morris viscosity (Morris, Fox and Zhu, J. Comput. Phys. 136, 1997, 214)
+      const double fvisc = 2.0 * viscosity[itype][jtype] / (rho[i] * rho[j]) * imass * jmass * wfd;
+
+      const double fpair = -imass * jmass * (fi + fj + art) * wfd;
+      const double deltaE =
+          -0.5 * (fpair * delVdotDelR + fvisc * (velx * velx + vely * vely + velz * velz));
+
+      f[i][0] += delx * fpair + velx * fvisc;
+      f[i][1] += dely * fpair + vely * fvisc;
+      f[i][2] += delz * fpair + velz * fvisc;
+      drho[i] += jmass * delVdotDelR * wfd;
+      desph[i] += deltaE;
+
+      if (newton_pair || j < nlocal) {
+        f[j][0] -= delx * fpair + velx * fvisc;
+        f[j][1] -= dely * fpair + vely * fvisc;
+        f[j][2] -= delz * fpair + velz * fvisc;
+        drho[j] += imass * delVdotDelR * wfd;
+        desph[j] += deltaE;
+      }
+
+      // no potential energy (the fluid's energy is esph); viscous forces have no virial
+      if (evflag) ev_tally(i, j, nlocal, newton_pair, 0.0, 0.0, fpair, delx, dely, delz);
+    }
+  }
+
+  if (vflag_fdotr) virial_fdotr_compute();
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::allocate()
+{
+  allocated = 1;
+  const int n = atom->ntypes;
+
+  memory->create(setflag, n + 1, n + 1, "pair:setflag");
+  for (int i = 1; i <= n; i++)
+    for (int j = i; j <= n; j++) setflag[i][j] = 0;
+  memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+
+  memory->create(rho0, n + 1, "pair:rho0");
+  memory->create(soundspeed, n + 1, "pair:soundspeed");
+  memory->create(B, n + 1, "pair:B");
+  for (int i = 0; i <= n; i++) rho0[i] = soundspeed[i] = B[i] = 0.0;
+  memory->create(cut, n + 1, n + 1, "pair:cut");
+  memory->create(viscosity, n + 1, n + 1, "pair:viscosity");
+  memory->create(spacing, n + 1, n + 1, "pair:spacing");
+  memory->create(wdp_inv, n + 1, n + 1, "pair:wdp_inv");
+}
+
+/* ----------------------------------------------------------------------
+   pair_style sph/taitwater/ap [kernel lucy|wendland] [epsilon eps] [exponent n]
+------------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::settings(int narg, char **arg)
+{
+  kernel = LUCY;
+  epsilon = 0.2;
+  exponent = 4;
+  int iarg = 0;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Pair sph/taitwater/ap keyword {} needs a value", key);
+    const std::string value = arg[iarg + 1];
+    if (key == "kernel") {
+      if (value == "lucy")
+        kernel = LUCY;
+      else if (value == "wendland")
+        kernel = WENDLAND;
+      else
+        error->all(FLERR, "Pair sph/taitwater/ap kernel must be lucy or wendland, not {}", value);
+    } else if (key == "epsilon") {
+      epsilon = utils::numeric(FLERR, value, false, lmp);
+      if (!std::isfinite(epsilon) || epsilon < 0.0)
+        error->all(FLERR, "Pair sph/taitwater/ap epsilon must be >= 0, not {}", value);
+    } else if (key == "exponent") {
+      exponent = utils::inumeric(FLERR, value, false, lmp);
+      if (exponent < 1)
+        error->all(FLERR, "Pair sph/taitwater/ap exponent must be an integer >= 1, not {}", value);
+    } else
+      error->all(FLERR, "Unknown pair sph/taitwater/ap keyword {}", key);
+    iarg += 2;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff I J rho0 c0 mu h dp: as sph/taitwater/morris plus the particle
+   spacing dp of the artificial pressure
+------------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::coeff(int narg, char **arg)
+{
+  if (narg != 7)
+    error->all(FLERR,
+               "Incorrect args for pair sph/taitwater/ap coefficients: I J rho0 c0 viscosity "
+               "h dp");
+  if (!allocated) allocate();
+
+  int ilo, ihi, jlo, jhi;
+  utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+  utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+
+  const char *names[5] = {"rho0", "c0", "viscosity", "h", "dp"};
+  double value[5];
+  for (int k = 0; k < 5; k++) {
+    value[k] = utils::numeric(FLERR, arg[k + 2], false, lmp);
+    if (!std::isfinite(value[k]) || value[k] < 0.0 || (value[k] == 0.0 && k != 2))
+      error->all(FLERR, "Pair sph/taitwater/ap {} must be {}, not {}", names[k],
+                 k == 2 ? ">= 0" : "> 0", arg[k + 2]);
+  }
+  const double rho0_one = value[0], c0_one = value[1], mu_one = value[2];
+  const double cut_one = value[3], dp_one = value[4];
+  if (dp_one >= cut_one)
+    error->all(FLERR,
+               "Pair sph/taitwater/ap spacing dp = {} must be smaller than the kernel support "
+               "h = {} (W(dp) = 0)",
+               dp_one, cut_one);
+
+  int count = 0;
+  for (int i = ilo; i <= ihi; i++) {
+    rho0[i] = rho0_one;
+    soundspeed[i] = c0_one;
+    B[i] = c0_one * c0_one * rho0_one / 7.0;
+    for (int j = MAX(jlo, i); j <= jhi; j++) {
+      viscosity[i][j] = mu_one;
+      cut[i][j] = cut_one;
+      spacing[i][j] = dp_one;
+      setflag[i][j] = 1;
+      count++;
+    }
+  }
+  if (count == 0) error->all(FLERR, "Incorrect args for pair coefficients");
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHTaitwaterAP::init_one(int i, int j)
+{
+  if (setflag[i][j] == 0) error->all(FLERR, "All pair sph/taitwater/ap coeffs are not set");
+  if (rho0[i] <= 0.0 || rho0[j] <= 0.0)
+    error->all(FLERR,
+               "Pair sph/taitwater/ap: no equation of state for atom type {} (a type's EOS "
+               "comes from a pair_coeff line whose first type range holds it)",
+               rho0[i] <= 0.0 ? i : j);
+
+  cut[j][i] = cut[i][j];
+  viscosity[j][i] = viscosity[i][j];
+  spacing[j][i] = spacing[i][j];
+  wdp_inv[i][j] = wdp_inv[j][i] = 1.0 / shape(spacing[i][j] / cut[i][j]);
+  return cut[i][j];
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  for (int i = 1; i <= atom->ntypes; i++) {
+    fwrite(&rho0[i], sizeof(double), 1, fp);
+    fwrite(&soundspeed[i], sizeof(double), 1, fp);
+    for (int j = i; j <= atom->ntypes; j++) {
+      fwrite(&setflag[i][j], sizeof(int), 1, fp);
+      if (setflag[i][j]) {
+        fwrite(&viscosity[i][j], sizeof(double), 1, fp);
+        fwrite(&cut[i][j], sizeof(double), 1, fp);
+        fwrite(&spacing[i][j], sizeof(double), 1, fp);
+      }
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+
+  const int me = comm->me;
+  for (int i = 1; i <= atom->ntypes; i++) {
+    if (me == 0) {
+      utils::sfread(FLERR, &rho0[i], sizeof(double), 1, fp, nullptr, error);
+      utils::sfread(FLERR, &soundspeed[i], sizeof(double), 1, fp, nullptr, error);
+    }
+    MPI_Bcast(&rho0[i], 1, MPI_DOUBLE, 0, world);
+    MPI_Bcast(&soundspeed[i], 1, MPI_DOUBLE, 0, world);
+    B[i] = soundspeed[i] * soundspeed[i] * rho0[i] / 7.0;
+    for (int j = i; j <= atom->ntypes; j++) {
+      if (me == 0) utils::sfread(FLERR, &setflag[i][j], sizeof(int), 1, fp, nullptr, error);
+      MPI_Bcast(&setflag[i][j], 1, MPI_INT, 0, world);
+      if (setflag[i][j]) {
+        if (me == 0) {
+          utils::sfread(FLERR, &viscosity[i][j], sizeof(double), 1, fp, nullptr, error);
+          utils::sfread(FLERR, &cut[i][j], sizeof(double), 1, fp, nullptr, error);
+          utils::sfread(FLERR, &spacing[i][j], sizeof(double), 1, fp, nullptr, error);
+        }
+        MPI_Bcast(&viscosity[i][j], 1, MPI_DOUBLE, 0, world);
+        MPI_Bcast(&cut[i][j], 1, MPI_DOUBLE, 0, world);
+        MPI_Bcast(&spacing[i][j], 1, MPI_DOUBLE, 0, world);
+      }
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::write_restart_settings(FILE *fp)
+{
+  fwrite(&kernel, sizeof(int), 1, fp);
+  fwrite(&epsilon, sizeof(double), 1, fp);
+  fwrite(&exponent, sizeof(int), 1, fp);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::read_restart_settings(FILE *fp)
+{
+  if (comm->me == 0) {
+    utils::sfread(FLERR, &kernel, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &epsilon, sizeof(double), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &exponent, sizeof(int), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(&kernel, 1, MPI_INT, 0, world);
+  MPI_Bcast(&epsilon, 1, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&exponent, 1, MPI_INT, 0, world);
+}

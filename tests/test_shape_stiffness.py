@@ -1,0 +1,100 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""The dryness-dependent cell-shape stiffness k_S(s) = k_S s^n (material key k_S_exponent,
+doc/pair_cgms.rst): the plugin's forces and energy against reference.py on 1 and 2 ranks,
+for uniform and bead-by-bead dryness; n = 0 is the constant k_S bit for bit; bad values."""
+
+import numpy as np
+import pytest
+
+import reference
+from cgms import material
+from cgmstest import APPLE, CUTOFF, MAT, header, make_tissue, physics, read_dump, run_lmp
+
+# turgor and perimeter off: the pair coefficient is then the cell-shape share alone, so
+# the comparison checks k_S(s) to rounding (the full model is in test_reference.py)
+PAIR = "turgor no perimeter no"
+DUMP = ("dump d all custom 1 forces.dump id x y vx vy fx fy d_s\n"
+        "dump_modify d format float %.17g sort id\n")
+
+
+def plugin_run(folder, overrides, nprocs=1):
+    """Forces (id order), positions, velocities, dryness and pe after 'run 0'."""
+    script = (header(processors=nprocs) + physics(PAIR, "", overrides) + DUMP
+              + "thermo_style custom step pe\nthermo_modify format float %.17g\nrun 0\n")
+    out = run_lmp(folder, script, nprocs=nprocs).stdout.splitlines()
+    row = out[[k for k, line in enumerate(out) if line.split()[:1] == ["Step"]][0] + 1]
+    state = read_dump(folder / "forces.dump")
+    state["pe"] = float(row.split()[1])
+    return state
+
+
+def oracle(state, mat):
+    xy = np.c_[state["x"], state["y"]]
+    v = np.c_[state["vx"], state["vy"]]
+    s = state["d_s"]
+    f, lj, _ = reference.pair_forces(xy, v, s, np.zeros_like(s), mat, CUTOFF,
+                                     turgor=False, perimeter=False)
+    return f, lj + reference.shape_energy(xy, s, mat, CUTOFF)
+
+
+@pytest.mark.lammps
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+@pytest.mark.parametrize("dryness", [(0.3, 1.0), 0.6])
+def test_dryness_dependent_stiffness_matches_reference(tmp_path, nprocs, dryness):
+    make_tissue(tmp_path, ncols=12, nrows=10, jitter=0.08, seed=11, s=dryness, vscale=1e-3)
+    mat = dict(MAT, k_S=2.9, k_S_exponent=6.0)
+    state = plugin_run(tmp_path, "k_S 2.9 k_S_exponent 6", nprocs)
+    f, energy = oracle(state, mat)
+    scale = np.abs(f).max()
+    err = np.abs(np.c_[state["fx"], state["fy"]] - f).max()
+    assert err < 1e-12 * scale, f"force error {err:.2e} of {scale:.2e}"
+    assert state["pe"] == pytest.approx(energy, rel=1e-12)
+    # the scaling is a real share of the force here: with a constant k_S the oracle's
+    # forces differ by far more than the agreement above (k_S(0.6) = 0.047 k_S)
+    constant, _ = oracle(state, dict(mat, k_S_exponent=0.0))
+    assert np.abs(constant - f).max() > 0.1 * scale
+
+
+@pytest.mark.lammps
+def test_exponent_zero_is_the_constant_stiffness(tmp_path):
+    """n = 0 (given) and no k_S_exponent line give the same bits; n = 6 at a uniform
+    s = 0.6 gives what a constant k_S 0.6^6 gives."""
+    make_tissue(tmp_path, jitter=0.08, seed=12, s=(0.3, 1.0), vscale=1e-3)
+    absent = plugin_run(tmp_path, "k_S 2.9")
+    zero = plugin_run(tmp_path, "k_S 2.9 k_S_exponent 0")
+    for column in ("fx", "fy", "pe"):
+        assert np.array_equal(absent[column], zero[column]), column
+    make_tissue(tmp_path, jitter=0.08, seed=12, s=0.6, vscale=1e-3)
+    scaled = plugin_run(tmp_path, "k_S 2.9 k_S_exponent 6")
+    constant = plugin_run(tmp_path, f"k_S {2.9 * 0.6 ** 6!r}")
+    scale = np.abs(constant["fx"]).max()
+    assert np.abs(scaled["fx"] - constant["fx"]).max() < 1e-13 * scale
+    assert scaled["pe"] == pytest.approx(constant["pe"], rel=1e-13)
+
+
+@pytest.mark.lammps
+@pytest.mark.parametrize("value,message", [
+    ("-1", "CGMS parameter k_S_exponent = -1 must be >= 0"),
+    ("six", "value 'six' of parameter k_S_exponent is not a number"),
+])
+def test_bad_exponent_is_refused(tmp_path, value, message):
+    make_tissue(tmp_path, s=0.8)
+    script = header() + physics("", "", f"k_S 2.9 k_S_exponent {value}") + "run 0\n"
+    proc = run_lmp(tmp_path, script, check=False)
+    assert proc.returncode != 0
+    assert "ERROR" in proc.stdout and message in proc.stdout, proc.stdout[-2000:]
+
+
+def test_python_reads_the_exponent_by_the_plugins_rules(tmp_path):
+    """cgms.material knows k_S_exponent (optional, >= 0), as the plugin's table does."""
+    text = open(APPLE).read()
+    good = tmp_path / "good.cgms"
+    good.write_text(text + "k_S 2.9\nk_S_exponent 6\n")
+    assert material.read(good)["k_S_exponent"] == 6.0
+    assert "k_S_exponent" not in material.read(APPLE)
+    bad = tmp_path / "bad.cgms"
+    bad.write_text(text + "k_S_exponent -1\n")
+    with pytest.raises(ValueError, match="k_S_exponent = -1 must be >= 0"):
+        material.read(bad)
