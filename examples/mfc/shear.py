@@ -8,6 +8,7 @@ k_S, and the k_S whose shear modulus matches the MFC's.
     /usr/bin/python3 examples/mfc/shear.py OUT [--blocks 8x5,12x7] [--levels 1,0.8]
         [--materials apple-mfc,apple] [--k-s 0,0.5,1,2,4] [--mfc-only | --cgms-only]
         [--tissue potato --mfc-set wall_Et=660 --materials potato-mfc,potato] [--report]
+        [--mfc-solver max_iterations=80000]
     /usr/bin/python3 examples/mfc/shear.py OUT --effects [--materials ...] [--k-s ...]
 
 One JSON per run in OUT (``mfc[-<tissue>]-<block>-s<s>.json``, ``cgms-<material>-<block>-s<s>-kS<k>.json``);
@@ -196,6 +197,9 @@ def main(argv=None):
     ap.add_argument("--mfc-set", default="", metavar="NAME=VALUE,...",
                     help="MFC values other than mfc_model.MFC's; potato's reference: "
                          "wall_Et=660 (examples/calibration/potato.py)")
+    ap.add_argument("--mfc-solver", default="", metavar="NAME=VALUE,...",
+                    help="MFC steady-state solver options other than mfc_run.DEFAULTS, e.g. "
+                         "max_iterations=80000 (a dried free state settled longer)")
     ap.add_argument("--k-s", default="0,0.5,1,2,4")
     ap.add_argument("--mfc-only", action="store_true")
     ap.add_argument("--cgms-only", action="store_true")
@@ -215,6 +219,8 @@ def main(argv=None):
     ks = [float(v) for v in args.k_s.split(",")]
     materials = args.materials.split(",")
     mfc_set = {k: float(v) for k, v in (kv.split("=") for kv in args.mfc_set.split(",") if kv)}
+    solver = {k: float(v) for k, v in (kv.split("=") for kv in args.mfc_solver.split(",") if kv)}
+    solver = {k: int(v) if k in ("max_iterations", "chunk") else v for k, v in solver.items()}
     p = mfc_model.parameters(args.tissue, **mfc_set)
     prefix = "mfc" if args.tissue == "apple" else f"mfc-{args.tissue}"
     x_ref = p["x_ref"]
@@ -226,7 +232,8 @@ def main(argv=None):
             mfc = None
             if not args.cgms_only:
                 mfc = once(out / f"{prefix}-{name}-s{s:g}.json",
-                           lambda: shear.mfc(centres, row, p, s, out / f"{prefix}-{name}-s{s:g}"))
+                           lambda: shear.mfc(centres, row, p, s, out / f"{prefix}-{name}-s{s:g}",
+                                             solver=solver))
                 if mfc is not None:
                     print(f"mfc {name} s={s:g}: {mfc.get('error') or shear.summarise(mfc)}",
                           file=sys.stderr)
