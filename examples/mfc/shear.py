@@ -273,6 +273,7 @@ def settling(r):
                 free_shift=free["shift"], G=float(gamma @ stress / (gamma @ gamma)),
                 G_intercept=float(np.polyfit(gamma, stress, 1)[0]),
                 G_min=float((stress / gamma).min()), G_max=float((stress / gamma).max()),
+                G_interior=shear.summarise(r)["G_interior"],
                 back=shear.summarise(r)["return_stress"],
                 energy_work=float(r["rows"][last]["work_energy"] / done[last]))
 
@@ -285,10 +286,11 @@ def exponent(s1, g1, s2, g2):
 def levels_report(table):
     """MFC shear modulus per level with its settling, and the exponent n of G ~ s^n
     between consecutive levels (Markdown)."""
-    print("| block | s | G (N/m) | G with intercept | G per strain (min-max) | back to 0 | "
+    print("| block | s | G (N/m) | G with intercept | G per strain (min-max) | G interior | "
+          "back to 0 | "
           "energy / work at 2 % | free state: converged, fmax (N), last move (um) | "
           "seconds |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     done = {}
     for name, n, s, mfc, _ in table:
         if mfc is None or "error" in mfc:
@@ -296,7 +298,8 @@ def levels_report(table):
         q = settling(mfc)
         done.setdefault(name, []).append((s, q["G"], q["G_intercept"]))
         print(f"| {name} | {s:g} | {q['G']:.4g} | {q['G_intercept']:.4g} | "
-              f"{q['G_min']:.3g}-{q['G_max']:.3g} | {100 * q['back']:.1f} % | "
+              f"{q['G_min']:.3g}-{q['G_max']:.3g} | {q['G_interior']:.3g} | "
+              f"{100 * q['back']:.1f} % | "
               f"{q['energy_work']:.3f} | {'yes' if q['free_converged'] else 'no'}, "
               f"{q['free_fmax']:.2g}, {1e6 * q['free_shift']:.3g} | {mfc['seconds']:.0f} |")
     print()
