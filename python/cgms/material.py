@@ -6,8 +6,8 @@ the reference cell, apply ``name value`` overrides, and write a new file.
 
 One set of rules, the same as the plugin's reader (``src/CGMS/cgms_material.cpp``): one
 ``name value`` per line, ``#`` comments; every name known and given once; every value a
-number in its range; the required names present; perim_a below perim_b. Every message
-names the file and, where there is one, the line."""
+number in its range; the required names present; perim_a below perim_b; k_S_floor not
+above k_S. Every message names the file and, where there is one, the line."""
 
 import math
 import os
@@ -30,7 +30,7 @@ PARAMETERS = {
     "P_f": ("> 0", True), "Pi_f": ("< 0", True), "K": ("> 0", True),
     "turgid_ratio": ("> 0", True), "rho0": ("> 0", True), "L_p": ("> 0", True),
     "solid_ratio": (">= 0", True), "k_S": (">= 0", False),
-    "k_S_exponent": (">= 0", False),
+    "k_S_exponent": (">= 0", False), "k_S_floor": (">= 0", False),
 }
 #: quantities derived from the parameters (not read from a file)
 DERIVED = ("A_ref", "b_ref", "l_ref", "x_ref")
@@ -65,7 +65,7 @@ def _value(name, text, where):
 
 def check(params, where):
     """Raise ValueError (naming ``where``) unless ``params`` holds every required name, each
-    in its range, and perim_a < perim_b."""
+    in its range, perim_a < perim_b and k_S_floor <= k_S."""
     for name, (limits, required) in PARAMETERS.items():
         if name not in params:
             if required:
@@ -77,6 +77,10 @@ def check(params, where):
     if params["perim_a"] >= params["perim_b"]:
         raise ValueError(f"{where}: perim_a ({params['perim_a']:g}) must be below perim_b "
                          f"({params['perim_b']:g}) so that l_d > 0")
+    floor, k_S = params.get("k_S_floor", 0.0), params.get("k_S", 0.0)
+    if floor > k_S:   # the plugin's time-step check bounds k_S(s) by the fresh k_S
+        raise ValueError(f"{where}: k_S_floor ({floor:g}) must not exceed k_S ({k_S:g}): the "
+                         "floor is the lowest cell-shape stiffness, k_S the fresh (largest) one")
 
 
 def read(name="apple"):

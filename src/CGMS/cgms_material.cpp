@@ -63,6 +63,9 @@ const Entry entries[] = {
     // with the dryness (to 0.28 at s = 0.8, 0.05 at 0.6: n of about 6, doc/calibration.md);
     // n >= 0 keeps k_S(s) <= k_S below s = 1, which the time-step check relies on
     {"k_S_exponent", &CGMS::Material::k_S_exponent, NONNEGATIVE, false},
+    // k_S(s) = max(k_S s^n, k_S_floor): below s = 0.6 the fine model's shear modulus
+    // rises again as the dried cells stiffen (doc/calibration.md)
+    {"k_S_floor", &CGMS::Material::k_S_floor, NONNEGATIVE, false},
 };
 constexpr int NENTRIES = sizeof(entries) / sizeof(entries[0]);
 
@@ -137,6 +140,12 @@ void CGMS::Material::finish(LAMMPS *lmp, const std::string &where)
   if (perim_a >= perim_b)
     lmp->error->all(FLERR, "{}: perim_a ({}) must be below perim_b ({}) so that l_d > 0", where,
                     perim_a, perim_b);
+  // the time-step check bounds k_S(s) by the fresh k_S
+  if (k_S_floor > k_S)
+    lmp->error->all(FLERR,
+                    "{}: k_S_floor ({}) must not exceed k_S ({}): the floor is the lowest "
+                    "cell-shape stiffness, k_S the fresh (largest) one",
+                    where, k_S_floor, k_S);
 
   A_ref = MY_PI * diameter * diameter / 4.0;
   b_ref = sqrt(2.0 * A_ref / (3.0 * sqrt(3.0)));

@@ -8,6 +8,7 @@
 #ifndef LMP_CGMS_MATERIAL_H
 #define LMP_CGMS_MATERIAL_H
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -45,6 +46,7 @@ namespace CGMS {
     double solid_ratio = 0.0;     // m_s / m_f at any dryness (paper: 10 %)
     double k_S = 0.0;             // cell-shape stiffness (N/m); not in the paper, 0 = off
     double k_S_exponent = 0.0;    // n of k_S(s) = k_S s^n; 0 = the same k_S at every dryness
+    double k_S_floor = 0.0;       // k_S(s) never falls below it (N/m); 0 = no floor
 
     unsigned long given = 0;    // bit k set: parameter k was given
 
@@ -64,10 +66,11 @@ namespace CGMS {
 
     double beta(double s) const;
     double lj_radius(double s) const;
-    // cell-shape stiffness of a bead of dryness s, k_S s^n (exactly k_S when n = 0)
+    // cell-shape stiffness of a bead of dryness s, max(k_S s^n, k_S_floor) (exactly k_S
+    // when n = 0, since finish() keeps k_S_floor <= k_S; exactly k_S s^n when the floor is 0)
     double shape_stiffness(double s) const
     {
-      return k_S_exponent == 0.0 ? k_S : k_S * pow(s, k_S_exponent);
+      return k_S_exponent == 0.0 ? k_S : std::max(k_S * pow(s, k_S_exponent), k_S_floor);
     }
   };
 
