@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 import reference
-from cgms import material
-from cgmstest import APPLE, CUTOFF, MAT, header, make_tissue, physics, read_dump, run_lmp
+from cgms import material, tissue
+from cgmstest import (APPLE, CUTOFF, MAT, XREF, header, make_tissue, physics, read_dump,
+                      run_lmp, run_tissue)
 
 # turgor and perimeter off: the pair coefficient is then the cell-shape share alone, so
 # the comparison checks k_S(s) to rounding (the full model is in test_reference.py)
@@ -103,6 +104,21 @@ def test_floor_zero_and_exponent_zero_change_nothing(tmp_path):
                  ("k_S 3.4", "k_S 3.4 k_S_floor 0.14")]:
         for column in ("fx", "fy", "pe"):
             assert np.array_equal(runs[a][column], runs[b][column]), (a, b, column)
+
+
+@pytest.mark.lammps
+def test_collapse_with_a_floor_names_the_dried_cells_stiffness(tmp_path):
+    """The sharp step s = 1 | 0.2 on the 86-bead lattice: k_S(0.2) = 0.14 N/m (the floor) is
+    below the 0.2-0.5 N/m this case needs (doc/calibration.md), the tissue collapses, and
+    the error names k_S(s) and the floor, not the fresh k_S alone as the one to raise."""
+    xy = tissue.hex_rectangle(10, 9, XREF, short_rows=True)
+    pre = ("variable xc equal 0.5*(bound(all,xmin)+bound(all,xmax))\n"
+           "variable s atom ternary(x<v_xc,1.0,0.2)")
+    run = run_tissue(tmp_path, xy, dryness="v_s", steps=60000, pre=pre, coefficients=FLOOR)
+    assert run.proc.returncode != 0
+    assert "the tissue is collapsing" in run.error, run.error
+    assert "max(k_S s^n, k_S_floor)" in run.error and "k_S_floor = 0.14 N/m" in run.error, \
+        run.error
 
 
 @pytest.mark.lammps

@@ -1294,8 +1294,10 @@ void FixCGMSFluid::damping_limit_error(int i)
   const double nn = sums[2 * i];
   // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
   // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
-  // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does
-  const double kS = pair->material().k_S;
+  // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does;
+  // with k_S(s) it is the dried cells' stiffness, far below k_S, that may be too weak
+  const Material &mat = pair->material();
+  const double kS = mat.k_S;
   if (nn > 6.0 && update->setupflag)
     error->one(FLERR,
                "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff ({:.4g} m) "
@@ -1312,7 +1314,12 @@ void FixCGMSFluid::damping_limit_error(int i)
                "smaller time step does not cure this. The paper's forces do not resist shear; "
                "{} prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)",
                atom->tag[i], nn, update->ntimestep, update->dt,
-               kS > 0.0 ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
+               kS > 0.0 && mat.k_S_exponent != 0.0
+                   ? fmt::format("a larger cell-shape stiffness of the dried cells, k_S(s) = "
+                                 "max(k_S s^n, k_S_floor) with k_S = {:g} N/m, n = {:g}, "
+                                 "k_S_floor = {:g} N/m, may",
+                                 kS, mat.k_S_exponent, mat.k_S_floor)
+               : kS > 0.0 ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
                         : std::string("a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
                                       "line) may"));
   error->one(FLERR,
