@@ -94,6 +94,8 @@ def main():
     parser.add_argument("--steps", type=int, default=60000)
     parser.add_argument("--kick", type=float, default=0.0, help="um")
     parser.add_argument("--path", choices=mfc_sph.PATHS, default="affine")
+    parser.add_argument("--mass", choices=mfc_sph.MASSES, default="scaled",
+                        help="fluid mass per level (water: affine path only)")
     parser.add_argument("--ap", type=float, default=0.0, help="artificial pressure epsilon")
     parser.add_argument("--kernel", choices=("lucy", "wendland"), default="lucy")
     parser.add_argument("--chunks", type=int, default=200,
@@ -137,13 +139,20 @@ def main():
     sph.commands_list(mfc_sph.level_commands(p, 1.0) + ["timestep 2e-9"])
     s_now = 1.0
     print(f"{ncell} cell(s); SPH tau = {mfc_sph.TAU:g} s, {' '.join(mfc_sph.fluid_style(p))}, "
-          f"path {args.path}; folder {folder}")
+          f"path {args.path}, mass {args.mass}; folder {folder}")
     print("   s   model   area/A0   perim/P0   centroid shift (um)   P_fluid (kPa)   seconds")
     for s in levels:
         t = time.perf_counter()
         for stage in mfc_run.stages(s_now, s, 0.05) + ([s] if s != s_now else []):
-            mfc_sph.dry(sph, p, stage, s_now, path=args.path)
+            mfc_sph.dry(sph, p, stage, s_now, path=args.path, mass=args.mass)
             s_now = stage
+            sph.command(f"run {STAGE_STEPS}")
+        if args.mass == "water":
+            # the layer carried through the last stage, measured again; the fresh fill's
+            # after it has relaxed (as built, its ring encloses exactly A0)
+            if s == 1.0:
+                sph.command(f"run {STAGE_STEPS}")
+            mfc_sph.dry(sph, p, s, s, mass="water")
             sph.command(f"run {STAGE_STEPS}")
         cells = mfc_metrics.cells(sph_state(sph, p)[0], p["n_wall"])
         steps = 0
