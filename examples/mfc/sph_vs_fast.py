@@ -11,7 +11,9 @@ one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
 
 Default: both models dried along the same ramp from the fresh cell(s); ``--path`` is how
 SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with the
-fluid, or "density", the fluid put in tension, the route before), ``--ap`` Monaghan's
+fluid, or "density", the fluid put in tension, the route before), ``--mass`` how it sets the fluid mass
+("scaled", s times the fresh fill's; "water", affine only: the fast variant's water s A0
+with the layer between fluid and wall, measured again once a level is reached), ``--ap`` Monaghan's
 artificial pressure factor and ``--kernel`` the kernel (both: pair sph/taitwater/ap;
 default LAMMPS's sph/taitwater/morris). Per level it prints also the SPH fluid: its area
 sum m/rho, the layer between it and the wall, the share of the ring it leaves void, the
@@ -101,6 +103,8 @@ def main():
     parser.add_argument("--chunks", type=int, default=200,
                         help="most chunks of %d SPH steps per level" % STEPS)
     args = parser.parse_args()
+    if args.mass == "water" and args.path != "affine":
+        parser.error("--mass water needs --path affine")
     ncell, levels = args.cells, [float(s) for s in args.levels.split(",")]
     p = mfc_model.parameters(sph_ap=args.ap, sph_kernel=args.kernel)
     centres = cluster(ncell)
