@@ -84,7 +84,7 @@ def test_builder_cell_counts_and_bad_centres():
 def fix_only(folder, centres, s, jitter, seed=0):
     """Walls with only fix mfc/pressure acting (bonds, angles, pairs zeroed)."""
     return open_cells(folder, centres, s, jitter, seed, extra=[
-        "bond_coeff 1 0.0 4e-6", "angle_coeff 1 0.0 180.0", "pair_coeff * * 0.0 8e-6 8 4"])
+        "bond_coeff 1 0.0 4e-6", "angle_coeff 1 0.0", "pair_coeff * * 0.0 8e-6 8 4"])
 
 
 def forces(lmp):
@@ -141,6 +141,45 @@ def test_fix_pressure_and_newtons_third_law(tmp_path):
             r = x[c] - x[c].mean(axis=0)
             assert abs(np.sum(r[:, 0] * fc[:, 1] - r[:, 1] * fc[:, 0])) < 1e-12 * scale * 1e-4
         assert lv["turgor"] == 0.8 * 2e5
+    finally:
+        lmp.close()
+
+
+@pytest.mark.lammps
+def test_wall_bending_force_is_minus_its_energy_gradient_near_straight(tmp_path):
+    """The built hexagon's sides are straight: every angle there is within 1 mrad of
+    180 degrees, where LAMMPS's angle harmonic caps 1/sin(theta) and its force is no longer
+    the gradient of its energy (a dried wall has 8 % of its angles there; minimisers stall
+    on it). The bending alone (bonds and pairs zeroed), by central differences."""
+    data = tmp_path / "walls.data"
+    mfc_tissue.write_data(data, [[0.0, 0.0]], P, overwrite=True)
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_list(mfc_run.setup_commands(data, P))
+        lmp.commands_list(["bond_coeff 1 0.0 4e-6", "pair_coeff * * 0.0 8e-6 8 4",
+                           "displace_atoms all random 1e-9 1e-9 0 3 units box"])
+        lmp.command("run 0")
+        f = np.array(lmp.gather_atoms("f", 1, 3)).reshape(N, 3)[:, :2]
+        # the particles along the sides, away from the hexagon's corners (whose 60-degree
+        # turns are bent far beyond 1 mrad and carry 1000 x larger forces)
+        side = [i for i in range(N) if 2 <= i % P["per_side"] <= P["per_side"] - 2]
+        scale = np.abs(f[side]).max()
+        assert scale > 1e-10   # bent: the check has teeth
+        h = 1e-11
+        for i in side[::3]:
+            for d in (0, 1):
+                move = [0.0, 0.0]
+                move[d] = h
+                lmp.commands_list([f"group one id {i + 1}",
+                                   f"displace_atoms one move {move[0]} {move[1]} 0", "run 0"])
+                ep = lmp.get_thermo("pe")
+                lmp.commands_list([f"displace_atoms one move {-2 * move[0]} {-2 * move[1]} 0",
+                                   "run 0"])
+                em = lmp.get_thermo("pe")
+                lmp.commands_list([f"displace_atoms one move {move[0]} {move[1]} 0",
+                                   "group one delete"])
+                fd = -(ep - em) / (2 * h)
+                assert abs(fd - f[i, d]) < 1e-2 * scale, (i, d, fd, f[i, d])
     finally:
         lmp.close()
 
@@ -260,7 +299,8 @@ def test_a_level_that_does_not_converge_reports_its_remaining_drift(tmp_path):
     try:
         mfc_run.relax(lmp, P, 1.0, ftol=1e-10)
         lmp.command("displace_atoms all random 1e-7 1e-7 0 5 units box")
-        report = mfc_run.relax(lmp, P, 0.6, chunk=100, max_iterations=400, ftol=1e-30, shift=0)
+        report = mfc_run.relax(lmp, P, 0.6, chunk=100, max_iterations=400, ftol=1e-30, shift=0,
+                               newton=None)
     finally:
         lmp.close()
     assert not report["converged"] and len(report["mean_shifts"]) == 4
@@ -269,6 +309,65 @@ def test_a_level_that_does_not_converge_reports_its_remaining_drift(tmp_path):
     # a finite remainder, or None (not inf or nan) when the shifts do not decay
     assert report["remaining_shift"] == (rest if math.isfinite(rest) else None)
     assert report["shift"] >= report["mean_shifts"][-1] > 0
+
+
+@pytest.mark.lammps
+def test_newton_stiffness_matches_the_force_differences_column_by_column(tmp_path):
+    """cgms.mfc_newton builds the stiffness from few force evaluations (particles of one
+    colour displaced together, the cells' fluid stiffness taken out as a rank-one term);
+    against the plain finite differences, one particle at a time, on two dried cells."""
+    from cgms import mfc_newton
+    from cgms.solve import colour
+    lmp = open_cells(tmp_path, [[0.0, 0.0], [P["x_ref"], 0.0]])
+    try:
+        mfc_run.relax(lmp, P, 1.0, newton=None)
+        mfc_run.ramp(lmp, P, 1.0, 0.6, max_iterations=2000, newton=None)
+        forces = mfc_newton.CellForces(lmp)
+        xy = forces.positions()
+        reach = 1.3 * P["lamella_rc"]
+        hess, fluid = mfc_newton.stiffness(forces, xy, N, P["height"], reach, 5e-11,
+                                           colour(xy, 2 * reach))
+        g = mfc_newton.area_gradient(xy, N)
+        _, f0 = forces(xy)
+        plain = np.zeros((2 * len(xy), 2 * len(xy)))
+        for j in range(len(xy)):
+            for d in (0, 1):
+                xp, xm = xy.copy(), xy.copy()
+                xp[j, d] += 5e-11
+                xm[j, d] -= 5e-11
+                plain[:, 2 * j + d] = -(forces(xp)[1] - forces(xm)[1]).ravel() / 1e-10
+    finally:
+        lmp.close()
+    u = np.zeros((2 * len(xy), 2))
+    for i in range(len(xy)):
+        u[2 * i:2 * i + 2, i // N] = g[i]
+    built = hess.toarray() + u @ np.diag(fluid) @ u.T
+    plain = 0.5 * (plain + plain.T)
+    tolerance = 1e-6 * np.abs(plain).max()
+    assert np.abs(built - plain).max() < tolerance
+    # the fluid's part, which couples a cell's far wall particles, is far above that
+    assert np.abs(hess.toarray() - plain).max() > 1e3 * tolerance
+
+
+@pytest.mark.lammps
+def test_newton_finishes_a_dried_cluster_to_the_force_test(tmp_path):
+    """From the minimiser's state two chunks into s = 0.6 (7 cells), Newton's method
+    reaches a largest force of 1e-12 N in a few steps, at a lower energy; the minimiser
+    alone is still at 1e-7 N there (doc/mfc.md, "Newton")."""
+    from cgms import mfc_newton
+    lmp = open_cells(tmp_path, [[0.0, 0.0]] + [
+        [P["x_ref"] * math.cos(a), P["x_ref"] * math.sin(a)]
+        for a in np.arange(6) * math.pi / 3 + math.pi / 2])
+    try:
+        mfc_run.relax(lmp, P, 1.0, newton=None)
+        cg = mfc_run.ramp(lmp, P, 1.0, 0.6, max_iterations=4000, newton=None, shift=0)
+        report = mfc_newton.newton(lmp, P, ftol=1e-12, max_iterations=12)
+        fmax = lmp.get_thermo("fmax")
+    finally:
+        lmp.close()
+    assert cg["fmax"] > 1e-9 and not cg["converged"]
+    assert report["converged"] and fmax < 1e-12, report["history"]
+    assert report["energy"] < cg["energy"]
 
 
 def fast_then_sph(folder, s, steps):

@@ -107,3 +107,34 @@ def test_mfc_shear_small_block(tmp_path):
     np.testing.assert_allclose(stored[:3], done[:3], rtol=0.05)
     assert got["G_clamped"] > 0 and got["G_clamped_linearity"] < 0.05
     assert abs(got["return_stress"]) < 0.02
+
+
+def test_shear_script_settling_and_exponent():
+    """examples/mfc/shear.py's summary of an MFC run: on a synthetic linear-elastic block
+    (stress G gamma, stored energy the exact (G/2) gamma^2 gap width) G is recovered both
+    ways and energy / work is 1; a constant stress offset (a creeping free state) moves G
+    through the origin but not G with an intercept; G ~ s^6 gives the exponent 6."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples" / "mfc"))
+    import shear as script
+    G, gap, length = 0.7, 5e-4, 6e-4
+
+    def result(offset):
+        rows, last = [], 0.0
+        for g in shear.GAMMAS:
+            rows.append(dict(kind="shear", strain=g, stress=G * g + offset, normal=0.0,
+                             move=[(g - last) * gap, 0.0], interior=g,
+                             work_energy=0.5 * G * g * g * gap * length))
+            last = g
+        rows.append(dict(kind="back", strain=0.0, stress=offset, normal=0.0,
+                         move=[-last * gap, 0.0], interior=0.0, work_energy=0.0))
+        free = dict(converged=True, fmax=1e-11, shift=1e-9)
+        return dict(rows=rows, length=length, gap=gap, held_drift=0.0, free=free)
+
+    q = script.settling(result(0.0))
+    assert q["G"] == pytest.approx(G) and q["G_intercept"] == pytest.approx(G)
+    assert q["energy_work"] == pytest.approx(1.0) and q["back"] == pytest.approx(0.0)
+    q = script.settling(result(0.1 * G * shear.GAMMAS[0]))
+    assert q["G_intercept"] == pytest.approx(G) and q["G"] > 1.01 * G
+    assert script.exponent(0.8, 0.8 ** 6, 0.6, 0.6 ** 6) == pytest.approx(6.0)

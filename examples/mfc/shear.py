@@ -8,6 +8,7 @@ k_S, and the k_S whose shear modulus matches the MFC's.
     /usr/bin/python3 examples/mfc/shear.py OUT [--blocks 8x5,12x7] [--levels 1,0.8]
         [--materials apple-mfc,apple] [--k-s 0,0.5,1,2,4] [--mfc-only | --cgms-only]
         [--tissue potato --mfc-set wall_Et=660 --materials potato-mfc,potato] [--report]
+        [--mfc-solver max_iterations=80000]
     /usr/bin/python3 examples/mfc/shear.py OUT --effects [--materials ...] [--k-s ...]
 
 One JSON per run in OUT (``mfc[-<tissue>]-<block>-s<s>.json``, ``cgms-<material>-<block>-s<s>-kS<k>.json``);
@@ -20,6 +21,7 @@ cells of cv = 0.05) per material and k_S, instead.
 
 import argparse
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -195,6 +197,9 @@ def main(argv=None):
     ap.add_argument("--mfc-set", default="", metavar="NAME=VALUE,...",
                     help="MFC values other than mfc_model.MFC's; potato's reference: "
                          "wall_Et=660 (examples/calibration/potato.py)")
+    ap.add_argument("--mfc-solver", default="", metavar="NAME=VALUE,...",
+                    help="MFC steady-state solver options other than mfc_run.DEFAULTS, e.g. "
+                         "max_iterations=80000 (a dried free state settled longer)")
     ap.add_argument("--k-s", default="0,0.5,1,2,4")
     ap.add_argument("--mfc-only", action="store_true")
     ap.add_argument("--cgms-only", action="store_true")
@@ -214,6 +219,8 @@ def main(argv=None):
     ks = [float(v) for v in args.k_s.split(",")]
     materials = args.materials.split(",")
     mfc_set = {k: float(v) for k, v in (kv.split("=") for kv in args.mfc_set.split(",") if kv)}
+    solver = {k: float(v) for k, v in (kv.split("=") for kv in args.mfc_solver.split(",") if kv)}
+    solver = {k: int(v) if k in ("max_iterations", "chunk") else v for k, v in solver.items()}
     p = mfc_model.parameters(args.tissue, **mfc_set)
     prefix = "mfc" if args.tissue == "apple" else f"mfc-{args.tissue}"
     x_ref = p["x_ref"]
@@ -225,7 +232,8 @@ def main(argv=None):
             mfc = None
             if not args.cgms_only:
                 mfc = once(out / f"{prefix}-{name}-s{s:g}.json",
-                           lambda: shear.mfc(centres, row, p, s, out / f"{prefix}-{name}-s{s:g}"))
+                           lambda: shear.mfc(centres, row, p, s, out / f"{prefix}-{name}-s{s:g}",
+                                             solver=solver))
                 if mfc is not None:
                     print(f"mfc {name} s={s:g}: {mfc.get('error') or shear.summarise(mfc)}",
                           file=sys.stderr)
@@ -242,7 +250,66 @@ def main(argv=None):
                         centres, row, mat_path, s, out / tag, f"k_S {k!r}")))
                 sweeps[mat] = runs
             table.append((name, len(centres), s, mfc, sweeps))
+    if args.mfc_only:
+        levels_report(table)
+        return
     report(table, ks)
+
+
+def settling(r):
+    """How far an MFC run's G can be trusted: its free state (converged, largest force
+    left, the last chunk's largest centroid move), G through the origin and with an
+    intercept (a constant offset: stress from a free state still creeping), the spread of
+    the single strains' stress / strain, the shear stress left back at 0 (of the largest),
+    and the stored energy / the agent's work at the largest shear (1 for an elastic block
+    measured right)."""
+    rows = [x for x in r["rows"] if x["kind"] == "shear"]
+    gamma = np.array([x["strain"] for x in rows])
+    stress = np.array([x["stress"] for x in rows])
+    done = shear.work(r["rows"], r["length"])
+    last = len(rows) - 1
+    free = r["free"]
+    return dict(free_converged=bool(free["converged"]), free_fmax=free["fmax"],
+                free_shift=free["shift"], G=float(gamma @ stress / (gamma @ gamma)),
+                G_intercept=float(np.polyfit(gamma, stress, 1)[0]),
+                G_min=float((stress / gamma).min()), G_max=float((stress / gamma).max()),
+                G_interior=shear.summarise(r)["G_interior"],
+                back=shear.summarise(r)["return_stress"],
+                energy_work=float(r["rows"][last]["work_energy"] / done[last]))
+
+
+def exponent(s1, g1, s2, g2):
+    """The n of G proportional to s^n through two levels."""
+    return float(math.log(g1 / g2) / math.log(s1 / s2))
+
+
+def levels_report(table):
+    """MFC shear modulus per level with its settling, and the exponent n of G ~ s^n
+    between consecutive levels (Markdown)."""
+    print("| block | s | G (N/m) | G with intercept | G per strain (min-max) | G interior | "
+          "back to 0 | "
+          "energy / work at 2 % | free state: converged, fmax (N), last move (um) | "
+          "seconds |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    done = {}
+    for name, n, s, mfc, _ in table:
+        if mfc is None or "error" in mfc:
+            continue
+        q = settling(mfc)
+        done.setdefault(name, []).append((s, q["G"], q["G_intercept"]))
+        print(f"| {name} | {s:g} | {q['G']:.4g} | {q['G_intercept']:.4g} | "
+              f"{q['G_min']:.3g}-{q['G_max']:.3g} | {q['G_interior']:.3g} | "
+              f"{100 * q['back']:.1f} % | "
+              f"{q['energy_work']:.3f} | {'yes' if q['free_converged'] else 'no'}, "
+              f"{q['free_fmax']:.2g}, {1e6 * q['free_shift']:.3g} | {mfc['seconds']:.0f} |")
+    print()
+    print("| block | levels | n from G | n from G with intercept |")
+    print("|---|---|---|---|")
+    for name, runs in done.items():
+        runs.sort(reverse=True)
+        for (s1, g1, h1), (s2, g2, h2) in zip(runs, runs[1:]):
+            print(f"| {name} | {s1:g} -> {s2:g} | {exponent(s1, g1, s2, g2):.2f} | "
+                  f"{exponent(s1, h1, s2, h2):.2f} |")
 
 
 def report(table, ks):

@@ -37,6 +37,10 @@ def arguments(q):
                         "chunk of 2000 iterations (default %(default)g)")
     q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
                    help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
+    q.add_argument("--newton", type=float, default=mfc_run.DEFAULTS["newton"],
+                   help="Newton's method finishes a level once the minimiser's largest force is "
+                        "below this, N (default %(default)g; 0: the minimiser alone, with the "
+                        "shift test)")
     q.add_argument("--max-iterations", type=positive_int,
                    default=mfc_run.DEFAULTS["max_iterations"],
                    help="minimiser iteration limit per stage (default %(default)d)")
@@ -71,6 +75,8 @@ def main(args):
     levels = args.dryness
     if not 0 <= args.stage < 1:
         raise ValueError(f"--stage must be in [0, 1), got {args.stage}")
+    if not args.newton >= 0:
+        raise ValueError(f"--newton must be >= 0 (N; 0: off), got {args.newton}")
     names = list(MICROSCALE) if args.tissues == ["all"] else args.tissues
     p = mfc_model.parameters(args.material)
     centres = {name: _centres(name, p) for name in names}   # bad names stop before any run
@@ -93,6 +99,7 @@ def run(out, names, centres, p, levels, args):
         results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,
                                 shift=args.shift, stage=args.stage,
                                 max_iterations=args.max_iterations,
+                                newton=args.newton if args.newton > 0 else None,
                                 say=lambda line: print(line, flush=True))
         for r in results:
             r["tissue"] = name

@@ -5,19 +5,22 @@
 
 Each cell's fluid is at rest at a steady state, so it is one pressure from the equation
 of state of the area its wall ring encloses (``fix mfc/pressure``, doc/fix_mfc_pressure.rst).
-The walls are LAMMPS's own styles: harmonic bonds (stretching) and angles (bending) along
+The walls are LAMMPS's own styles: harmonic bonds (stretching) and cosine angles (bending) along
 each ring, and 8-4 Lennard-Jones (``pair nm/cut``) for the wall's self-avoidance and the
 middle lamella between adjacent cells (types = cell colours, so 1-1, 2-2, 3-3 are own-cell
 pairs and the rest neighbour-cell pairs). The whole model has a potential energy, so a
-steady state is a minimum: ``minimize`` (FIRE) finds it.
+steady state is a minimum: ``minimize`` (conjugate gradients) and Newton's method find it.
 
-Steady-state criterion (doc/mfc.md): the minimiser runs in chunks of ``chunk`` FIRE
-iterations; the state is steady when the largest force component on any wall particle is
-below ``ftol`` (N; the turgor load on a fresh wall particle is about 6e-6 N), or when over
-one chunk no cell centroid moved more than ``shift`` (m) and no cell area changed by more
-than ``area`` (relative). The second test ends the slow coarsening of wrinkles in dried
-walls, which moves neither centroids nor areas much. A level that meets neither within
-``max_iterations`` is reported as not converged, with its last chunk's centroid shift.
+Steady-state criterion (doc/mfc.md): the largest force component on any wall particle is
+below ``ftol`` (N; the turgor load on a fresh wall particle is about 6e-6 N). Conjugate
+gradients run in chunks of ``chunk`` iterations until the largest force is below ``newton``
+(N); Newton's method (:mod:`cgms.mfc_newton`) then finishes the level, which the minimiser
+alone does not for large dried tissues (their softest modes, the glued sheet sliding, creep
+for tens of thousands of iterations). With ``newton`` None the minimiser runs alone and a
+level is also taken as steady when over one chunk no cell centroid moved more than
+``shift`` (m) and no cell area changed by more than ``area`` (relative). A level that
+meets neither within ``max_iterations`` is reported as not converged, with its last
+chunk's centroid shift.
 
 Drying path (the ramp): the fresh tissue is relaxed first; every later level starts from
 the previous level's steady state and passes through intermediate levels ``stage`` apart
@@ -32,10 +35,11 @@ import numpy as np
 from .mfc_model import level
 
 DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
-                max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg")
+                max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg",
+                newton=1e-6)
 
 
-#: LAMMPS packages the fast variant's styles come from (bond/angle harmonic; pair nm/cut)
+#: LAMMPS packages the fast variant's styles come from (bond harmonic, angle cosine; pair nm/cut)
 PACKAGES = ("MOLECULE", "EXTRA-PAIR")
 
 
@@ -68,9 +72,13 @@ def setup_commands(data, p, newton="on", processors=None, boundary="s s p", rest
         # bonded neighbours stay in the pair list: the 3 um repulsion acts on crushed bonds
         "special_bonds lj 1.0 1.0 1.0",
         "bond_style harmonic",
-        "angle_style harmonic",
-        # LAMMPS's harmonic energies have no 1/2: K = k/2
-        f"angle_coeff 1 {p['k_bend'] / 2:.10g} 180.0",
+        # bending E = k_b (1 - cos phi) at turning angle phi (= k_b phi^2 / 2 for small phi),
+        # LAMMPS's cosine style E = K (1 + cos theta). Not angle harmonic at theta0 = 180:
+        # it caps 1/sin(theta) at 1000, so within 1 mrad of straight (8 % of the angles of a
+        # dried wrinkled wall) its force is not the gradient of its energy, and minimisers
+        # stall (doc/mfc.md, "Why the dried levels crept")
+        "angle_style cosine",
+        f"angle_coeff 1 {p['k_bend']:.10g}",
         f"pair_style nm/cut {p['lamella_rc']:.10g}",
         "pair_modify shift yes",
         # middle lamella: walls of different cells (types = colours) rest d_p apart
@@ -152,17 +160,22 @@ def remaining(changes, last=6):
 
 def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAULTS["area"],
           chunk=DEFAULTS["chunk"], max_iterations=DEFAULTS["max_iterations"],
-          timestep=DEFAULTS["timestep"], dmax=DEFAULTS["dmax"], style=DEFAULTS["style"]):
+          timestep=DEFAULTS["timestep"], dmax=DEFAULTS["dmax"], style=DEFAULTS["style"],
+          newton=DEFAULTS["newton"]):
     """Set the levers of ``s`` and minimise to the steady-state criterion (module doc).
-    Returns the iterations, the largest force component left (N), the centroid shift (m)
-    and relative area change of the last chunk, the energy, ``converged``, and for a level
-    that did not converge, the mean centroid shift of each chunk (``mean_shifts``, m) and
-    what :func:`remaining` extrapolates from them (``shift_ratio`` per chunk,
-    ``remaining_shift``: the mean centroid travel still to come, m)."""
+    ``newton`` (N): once the largest force is below it (or the iterations are spent),
+    Newton's method (:func:`cgms.mfc_newton.newton`) finishes the level to ``ftol``; the
+    shift test is then not used. None: the minimiser alone. Returns the iterations, the
+    largest force component left (N), the centroid shift (m) and relative area change of
+    the last chunk (for Newton: over its steps), the energy, ``converged``, ``newton`` (its
+    iterations and seconds, or None), and for a level that did not converge, the mean
+    centroid shift of each chunk (``mean_shifts``, m) and what :func:`remaining`
+    extrapolates from them (``shift_ratio`` per chunk, ``remaining_shift``: the mean
+    centroid travel still to come, m)."""
     start = lmp.extract_global("ntimestep")
     lmp.commands_list(level_commands(p, s))
     centroid, cell_area = _cells(lmp, p["n_wall"])
-    done, now, means = 0, style, []
+    done, now, means, finish = 0, style, [], None
     while True:
         before = lmp.extract_global("ntimestep")
         lmp.commands_list(minimize_commands(ftol, chunk, timestep, dmax, now))
@@ -178,17 +191,48 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
         means.append(float(shifts.mean()))
         changed = float(np.abs(new_area / cell_area - 1).max())
         centroid, cell_area = new_centroid, new_area
-        steady = fmax <= ftol or (moved <= shift and changed <= area and not stalled)
-        if steady or done >= max_iterations:
+        steady = fmax <= ftol or (not newton and moved <= shift and changed <= area
+                                  and not stalled)
+        spent = done >= max_iterations
+        if newton and not steady and (fmax <= newton or spent):
+            finish = _newton(lmp, p, ftol, finish)
+            fmax = lmp.get_thermo("fmax")
+            steady = fmax <= ftol
+            new_centroid, new_area = _cells(lmp, p["n_wall"])
+            shifts = np.hypot(*(new_centroid - centroid).T)
+            moved = float(shifts.max())
+            means[-1] += float(shifts.mean())
+            changed = float(np.abs(new_area / cell_area - 1).max())
+            centroid, cell_area = new_centroid, new_area
+        if steady or spent:
             break
     report = dict(s=s, iterations=done, fmax=fmax, shift=moved, area_change=changed,
-                  converged=bool(steady), energy=lmp.get_thermo("pe"))
+                  converged=bool(steady), energy=lmp.get_thermo("pe"),
+                  newton=finish)
     if not steady:
         ratio, rest = remaining(means)
         # None, not nan or inf, in the level record: too few chunks, or not decaying
         report.update(mean_shifts=means, shift_ratio=ratio if math.isfinite(ratio) else None,
                       remaining_shift=rest if math.isfinite(rest) else None)
     return report
+
+
+def _newton(lmp, p, ftol, before=None, iterations=40):
+    """Newton's method from the current state (:func:`cgms.mfc_newton.newton`), at most
+    ``iterations`` steps. Returns its totals added to ``before`` (attempts, iterations,
+    force evaluations, seconds); a failure (no step lowers the energy) is recorded, not
+    raised: the minimiser carries on."""
+    from .mfc_newton import newton
+    total = dict(before or dict(attempts=0, iterations=0, evaluations=0, seconds=0.0))
+    try:
+        r = newton(lmp, p, ftol=ftol, max_iterations=iterations)
+    except RuntimeError as error:
+        total["error"] = str(error)
+        return total
+    total["attempts"] += 1
+    for key in ("iterations", "evaluations", "seconds"):
+        total[key] += r[key]
+    return total
 
 
 def stages(s_from, s_to, stage):
@@ -218,7 +262,7 @@ def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"], s
         # steady state (relaxing each to its steady state doubles the 86-cell cost)
         options = dict(kwargs) if last else dict(
             kwargs, max_iterations=kwargs.get("chunk", DEFAULTS["chunk"]),
-            ftol=1e3 * kwargs.get("ftol", DEFAULTS["ftol"]))
+            ftol=1e3 * kwargs.get("ftol", DEFAULTS["ftol"]), newton=None)
         report = relax(lmp, p, s, **options)
         total += report["iterations"]
     report["iterations"] = total
