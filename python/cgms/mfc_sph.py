@@ -155,8 +155,7 @@ def setup_commands(data, p, newton="on", processors=None):
              "atom_style hybrid sph angle", "atom_modify map array",
              "comm_modify vel yes", f"read_data {data}",
              "group wall type 1 2 3", "group fluid type 4 5 6",
-             "special_bonds lj 1.0 1.0 1.0", "bond_style harmonic", "angle_style harmonic",
-             f"angle_coeff 1 {p['k_bend'] / 2:.10g} 180.0",
+             "special_bonds lj 1.0 1.0 1.0", "bond_style harmonic", *mfc_run.wall_bending(p),
              f"pair_style hybrid/overlay {' '.join(fluid_style(p))} nm/cut {p['lamella_rc']:.10g}"]
     rep = f"nm/cut {p['self_E0']:.10g} {p['self_r0']:.10g} 8 4 {p['self_r0']:.10g}"
     lam = f"nm/cut {p['lamella_E0']:.10g} {p['pectin']:.10g} 8 4 {p['lamella_rc']:.10g}"
