@@ -1319,9 +1319,10 @@ void FixCGMSFluid::damping_limit_error(int i)
                                  "max(k_S s^n, k_S_floor) with k_S = {:g} N/m, n = {:g}, "
                                  "k_S_floor = {:g} N/m, may",
                                  kS, mat.k_S_exponent, mat.k_S_floor)
-               : kS > 0.0 ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
-                        : std::string("a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
-                                      "line) may"));
+                   : kS > 0.0
+                   ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
+                   : std::string("a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
+                                 "line) may"));
   error->one(FLERR,
              "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
              "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
