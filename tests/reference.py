@@ -87,7 +87,8 @@ def pair_forces(xy, v, s, c, mat, cutoff, turgor=True, perimeter=True, damping=T
     With ``mat["k_S"]`` > 0, also the cell-shape force (an extension, not in the paper):
     minus the gradient of sum_i k_S,i/2 sum_k (x_ik - xbar_i)^2, xbar_i the mean distance
     of bead i to its neighbours and k_S,i = max(k_S s_i^n, k_S_floor) (n =
-    ``mat["k_S_exponent"]``, default 0). Differentiated here term by term: d/dx_ik of bead i's term is
+    ``mat["k_S_exponent"]``, default 0). Differentiated here term by term: d/dx_ik of bead
+    i's term is
     k_S,i [(x_ik - xbar_i) - (1/N_i) sum_m (x_im - xbar_i)] = k_S,i (x_ik - xbar_i), and
     x_ik also enters bead k's term, so the pair (i, k) gets
     -[k_S,i (x_ik - xbar_i) + k_S,k (x_ik - xbar_k)] n."""

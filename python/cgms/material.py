@@ -79,8 +79,9 @@ def check(params, where):
                          f"({params['perim_b']:g}) so that l_d > 0")
     floor, k_S = params.get("k_S_floor", 0.0), params.get("k_S", 0.0)
     if floor > k_S:   # the plugin's time-step check bounds k_S(s) by the fresh k_S
-        raise ValueError(f"{where}: k_S_floor ({floor:g}) must not exceed k_S ({k_S:g}): the "
-                         "floor is the lowest cell-shape stiffness, k_S the fresh (largest) one")
+        raise ValueError(f"{where}: k_S_floor ({floor:g}) must not exceed k_S ({k_S:g}): "
+                         "the floor is the lowest cell-shape stiffness, k_S the fresh "
+                         "(largest) one")
 
 
 def read(name="apple"):
