@@ -45,12 +45,15 @@ PairCGMS::PairCGMS(LAMMPS *lmp) :
   one_coeff = 1;
   manybody_flag = 1;    // forces depend on the neighbours' neighbours through N_k and l_k
   centroidstressflag = CENTROID_NOTAVAIL;
+  shape_k = nullptr;
+  nmax_shape = 0;
 }
 
 /* ---------------------------------------------------------------------- */
 
 PairCGMS::~PairCGMS()
 {
+  memory->destroy(shape_k);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -288,7 +291,26 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
   const int *ilist = list->ilist;
   const int *numneigh = list->numneigh;
   int **firstneigh = list->firstneigh;
-  double s_last = -1.0, rad_last = 0.0, kS_last = 0.0;
+  double s_last = -1.0, rad_last = 0.0;
+  if (PAIRCOEF == 2) {
+    const int nall = atom->nlocal + atom->nghost;
+    if (atom->nmax > nmax_shape) {
+      nmax_shape = atom->nmax;
+      memory->destroy(shape_k);
+      memory->create(shape_k, nmax_shape, "pair:shape_k");
+    }
+    // one pow per change of s along the beads, as for the LJ radius below
+    double kS_last = 0.0;
+    for (int i = 0; i < nall; i++) {
+      const double s = cg[i][CGMS::DRYNESS];
+      if (s != s_last) {
+        s_last = s;
+        kS_last = mat.shape_stiffness(s);
+      }
+      shape_k[i] = kS_last;
+    }
+    s_last = -1.0;
+  }
 
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
@@ -305,10 +327,9 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       if (si != s_last) {
         s_last = si;
         rad_last = mat.lj_radius(si);
-        if (PAIRCOEF == 2) kS_last = mat.shape_stiffness(si);
       }
       radi = rad_last;
-      kSi = kS_last;
+      if (PAIRCOEF == 2) kSi = shape_k[i];
     }
     const int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
@@ -345,8 +366,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       double evdwl = 0.0;
       if (PAIRCOEF == 1) fpair += (ci + coef[j]) * r1inv - shape_spring;
       if (PAIRCOEF == 2) {
-        const double sj = cg[j][CGMS::DRYNESS];
-        fpair += (ci + coef[j]) * r1inv - kSi - (sj == si ? kSi : mat.shape_stiffness(sj));
+        fpair += (ci + coef[j]) * r1inv - kSi - shape_k[j];
       }
       if (LJ) {
         const double q2 = rad * rad * r2inv;
@@ -488,7 +508,8 @@ void PairCGMS::read_restart(FILE *fp)
 double PairCGMS::memory_usage()
 {
   const double n = atom->ntypes + 1;
-  return Pair::memory_usage() + n * n * (sizeof(int) + sizeof(double));
+  return Pair::memory_usage() + n * n * (sizeof(int) + sizeof(double)) +
+      (double) nmax_shape * sizeof(double);
 }
 
 /* ---------------------------------------------------------------------- */

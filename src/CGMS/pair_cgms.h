@@ -68,6 +68,10 @@ class PairCGMS : public Pair {
   double cut_global;         // largest cutoff, for the neighbour lists
   double uniform_dryness;
   class FixCGMSFluid *fluid;    // the fix that prepares coefficients and distances (init_style)
+  // k_S(s_i) of every local and ghost bead, filled once per force call when the
+  // stiffness differs from bead to bead (PAIRCOEF 2), so the pair loop takes no pow
+  double *shape_k;
+  int nmax_shape;
 
   void allocate();
   template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void eval();
