@@ -192,7 +192,14 @@ def main():
               f"{fl['layer'].mean() * 1e6:.2f} um, void {fl['void'].max():.2%}, nearest "
               f"neighbour {fl['nearest'].min():.2f} spacings, P {fl['pressure'].mean() / 1e3:.1f}"
               f" +- {fl['pressure_sd'].mean() / 1e3:.1f} kPa, walls "
-              f"{fl['wall_pressure'].mean() / 1e3:.1f} kPa", flush=True)
+              f"{fl['wall_pressure'].mean() / 1e3:.1f} kPa, within h of the wall "
+              f"{fl['near_wall_pressure'].mean() / 1e3:.1f} kPa", flush=True)
+        # the fast variant's EOS, P_T + K[(A_f/A)^7 - 1], on its own ring and on SPH's
+        eos = [mfc_sph.pressure(p, s, p["rho0"] * p["height"]
+                                * mfc_model.level(p, s)["fluid_area"] / c["area"]).mean()
+               for c in (cf, cs)]
+        print(f"        fast EOS pressure: on the fast ring {eos[0] / 1e3:.2f} kPa, on the SPH "
+              f"ring {eos[1] / 1e3:.1f} kPa", flush=True)
     sph.close()
 
 

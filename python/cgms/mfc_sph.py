@@ -266,7 +266,8 @@ def fluid_state(lmp, p, s):
     spacing of level s from every fluid particle: holes the fluid left), ``nearest`` (mean
     distance to the nearest fluid particle of the cell over that spacing: a fluid that
     pairs up falls towards 0), ``pressure`` and ``pressure_sd`` (its particles' Tait
-    pressure, Pa) and the walls' mean ``wall_pressure`` (Pa)."""
+    pressure, Pa), the mean ``near_wall_pressure`` of its particles within the kernel support
+    of its wall (Pa) and the walls' mean ``wall_pressure`` (Pa)."""
     n = lmp.get_natoms()
     x = np.array(lmp.gather_atoms("x", 1, 3), float).reshape(n, 3)[:, :2]
     rho = np.array(lmp.gather_atoms("rho", 1, 1), float)
@@ -279,7 +280,8 @@ def fluid_state(lmp, p, s):
     press = pressure(p, s, rho)
     dx = p["fluid_spacing"] * math.sqrt(s)
     out = {k: np.empty(len(cells["area"])) for k in (
-        "fluid", "void", "nearest", "pressure", "pressure_sd", "wall_pressure")}
+        "fluid", "void", "nearest", "pressure", "pressure_sd", "near_wall_pressure",
+        "wall_pressure")}
     for c, ring in enumerate(walls.reshape(-1, p["n_wall"], 2)):
         own = np.flatnonzero((mol == c + 1) & (np.arange(n) >= nw))
         tree = cKDTree(x[own])
@@ -291,6 +293,8 @@ def fluid_state(lmp, p, s):
         grid = grid[tissue._inside(grid, ring, 0.0, closed=False)]
         out["void"][c] = np.mean(tree.query(grid)[0] > dx)
         out["pressure"][c], out["pressure_sd"][c] = press[own].mean(), press[own].std()
+        near = cKDTree(ring).query(x[own])[0] < SUPPORT
+        out["near_wall_pressure"][c] = press[own][near].mean() if near.any() else np.nan
         out["wall_pressure"][c] = press[c * p["n_wall"]:(c + 1) * p["n_wall"]].mean()
     out.update(walls=walls, ring=cells["area"],
                layer=(cells["area"] - out["fluid"]) / cells["perimeter"])
