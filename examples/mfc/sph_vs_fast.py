@@ -100,13 +100,16 @@ def main():
                         help="fluid mass per level (water: affine path only)")
     parser.add_argument("--ap", type=float, default=0.0, help="artificial pressure epsilon")
     parser.add_argument("--kernel", choices=("lucy", "wendland"), default="lucy")
+    parser.add_argument("--boundary", choices=mfc_sph.BOUNDARIES, default="dynamic",
+                        help="wall-fluid coupling (adami: walls take the fluid's pressure)")
     parser.add_argument("--chunks", type=int, default=200,
                         help="most chunks of %d SPH steps per level" % STEPS)
     args = parser.parse_args()
     if args.mass == "water" and args.path != "affine":
         parser.error("--mass water needs --path affine")
     ncell, levels = args.cells, [float(s) for s in args.levels.split(",")]
-    p = mfc_model.parameters(sph_ap=args.ap, sph_kernel=args.kernel)
+    p = mfc_model.parameters(sph_ap=args.ap, sph_kernel=args.kernel,
+                             sph_boundary=args.boundary)
     centres = cluster(ncell)
     folder = Path(tempfile.mkdtemp(prefix="mfc-sph-"))
     # the fast variant (one LAMMPS instance at a time: the plugin loads once per process)

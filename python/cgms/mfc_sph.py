@@ -30,20 +30,32 @@ SUPPORT = 13.0e-6    # kernel support h (2.6 fluid spacings, LAMMPS's cavity-flo
 TAU = 2.0e-7         # damping time of fix viscous, s (2 us: the fresh cell inflates, doc/mfc.md)
 
 
+#: how the walls meet the fluid (doc/mfc.md): "dynamic", walls are SPH particles with their
+#: own continuity density (MFC.md's coupling); "adami", a wall takes the pressure of the
+#: fluid around it (Adami, Hu and Adams, J. Comput. Phys. 231, 2012, 7057)
+BOUNDARIES = ("dynamic", "adami")
+
+
 def fluid_style(p):
-    """``(style, settings)`` of the SPH fluid's pair style, chosen by two optional
-    parameters: ``sph_ap`` (Monaghan's artificial pressure factor epsilon; 0 = off) and
-    ``sph_kernel`` ("lucy" or "wendland"). Both at their defaults: LAMMPS's own
-    sph/taitwater/morris; otherwise the plugin's sph/taitwater/ap
-    (doc/pair_sph_taitwater_ap.rst), which holds the fluid in tension."""
+    """``(style, settings)`` of the SPH fluid's pair style, chosen by three optional
+    parameters: ``sph_ap`` (Monaghan's artificial pressure factor epsilon; 0 = off),
+    ``sph_kernel`` ("lucy" or "wendland") and ``sph_boundary`` (BOUNDARIES). All at their
+    defaults: LAMMPS's own sph/taitwater/morris; otherwise the plugin's sph/taitwater/ap
+    (doc/pair_sph_taitwater_ap.rst), which holds the fluid in tension and has Adami's
+    walls (types 1-3)."""
     ap, kernel = p.get("sph_ap", 0.0), p.get("sph_kernel", "lucy")
+    boundary = p.get("sph_boundary", "dynamic")
     if kernel not in ("lucy", "wendland"):
         raise ValueError(f"sph_kernel must be lucy or wendland, got {kernel!r}")
     if not ap >= 0:
         raise ValueError(f"sph_ap (artificial pressure factor) must be >= 0, got {ap!r}")
-    if ap == 0 and kernel == "lucy":
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"sph_boundary must be one of {', '.join(BOUNDARIES)}, "
+                         f"got {boundary!r}")
+    if ap == 0 and kernel == "lucy" and boundary == "dynamic":
         return "sph/taitwater/morris", ""
-    return "sph/taitwater/ap", f"kernel {kernel} epsilon {ap:g}"
+    walls = " wall 1*3" if boundary == "adami" else ""
+    return "sph/taitwater/ap", f"kernel {kernel} epsilon {ap:g}{walls}"
 
 
 def tait(p, s):
