@@ -450,3 +450,16 @@ def test_water_mass_holds_the_fast_variants_water(tmp_path):
     assert abs((after["fluid"][0] + layer) / p["A_ref"] - 1) < 1e-9
     # the relaxed fill holds less than A0 with its layer: the mass did change
     assert abs(after["fluid"][0] / before["fluid"][0] - 1) > 1e-4
+
+
+def test_fluid_style_picks_the_wall_coupling():
+    """``sph_boundary`` "adami" gives the walls (types 1-3) the fluid's pressure, on any
+    kernel and artificial pressure; "dynamic" (the default) keeps LAMMPS's style where it
+    can; anything else is refused."""
+    assert mfc_sph.fluid_style({}) == ("sph/taitwater/morris", "")
+    assert mfc_sph.fluid_style({"sph_boundary": "adami"}) == (
+        "sph/taitwater/ap", "kernel lucy epsilon 0 wall 1*3")
+    assert mfc_sph.fluid_style({"sph_ap": 0.2, "sph_kernel": "wendland"}) == (
+        "sph/taitwater/ap", "kernel wendland epsilon 0.2")
+    with pytest.raises(ValueError, match="sph_boundary must be one of dynamic, adami"):
+        mfc_sph.fluid_style({"sph_boundary": "mirror"})
