@@ -365,7 +365,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       double fpair = 0.0;
       double evdwl = 0.0;
       if (PAIRCOEF == 1) fpair += (ci + coef[j]) * r1inv - shape_spring;
-      if (PAIRCOEF == 2) { fpair += (ci + coef[j]) * r1inv - kSi - shape_k[j]; }
+      if (PAIRCOEF == 2) fpair += (ci + coef[j]) * r1inv - kSi - shape_k[j];
       if (LJ) {
         const double q2 = rad * rad * r2inv;
         const double q4 = q2 * q2;
