@@ -14,10 +14,13 @@ SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with t
 fluid, or "density", the fluid put in tension, the route before), ``--mass`` how it sets the fluid mass
 ("scaled", s times the fresh fill's; "water", affine only: the fast variant's water s A0
 with the layer between fluid and wall, measured again once a level is reached), ``--ap`` Monaghan's
-artificial pressure factor and ``--kernel`` the kernel (both: pair sph/taitwater/ap;
-default LAMMPS's sph/taitwater/morris). Per level it prints also the SPH fluid: its area
+artificial pressure factor, ``--kernel`` the kernel and ``--boundary`` the wall-fluid
+coupling ("dynamic": walls with their own continuity density; "adami": walls take the
+fluid's pressure; any of the three: pair sph/taitwater/ap; all at their defaults LAMMPS's
+sph/taitwater/morris). Per level it prints also the SPH fluid: its area
 sum m/rho, the layer between it and the wall, the share of the ring it leaves void, the
-mean distance to the nearest fluid particle over the spacing (pairing) and the pressures.
+mean distance to the nearest fluid particle over the spacing (pairing), the pressures (also
+next to the wall) and the fast variant's EOS pressure on its own ring and on SPH's.
 ``--from-fast``:
 the SPH model started from the fast variant's steady state of each level (every ring
 filled with SPH fluid at rest, ``cgms.mfc_sph.write_state``), walls optionally kicked at
