@@ -38,9 +38,9 @@ class PairSPHTaitwaterAP : public Pair {
 
  protected:
   enum { LUCY, WENDLAND };
-  int kernel;        // LUCY or WENDLAND
-  double epsilon;    // artificial pressure factor (0: off)
-  int exponent;      // n of (W(r) / W(dp))^n
+  int kernel;            // LUCY or WENDLAND
+  double epsilon;        // artificial pressure factor (0: off)
+  int exponent;          // n of (W(r) / W(dp))^n
   int walllo, wallhi;    // atom types of the walls (Adami's boundary); 0 0: none
 
   double *wsum, *wnorm;    // per atom: sum_f P_f W_wf and sum_f W_wf of a wall
