@@ -67,8 +67,10 @@ def two_periods(params, velocities, temperature=60.0, thickness=5e-3, humidity=0
     """The model's slope-method D_eff over the wet (1 >= MR >= 0.5) and the dry
     (0.5 >= MR >= 0.1) half of its curve, at each air velocity: what a study that fits
     two falling-rate periods separately (Velic et al. 2004: 60 C, 5 mm, 0.64-2.75 m/s)
-    would read from this model. With D constant the ratio is not 1, because the wet
-    half is slowed by the wet-bulb period and the air side."""
+    would read from this model. With D constant the dry half reads larger because the
+    wet slice sits near the wet-bulb temperature, where D is smaller (the heat balance);
+    with the product at the air temperature it reads smaller (tests/
+    test_fit_diffusivity_script.py)."""
     print(f"{temperature:.0f} C, {thickness * 1e3:.0f} mm, D_moisture {params['D_moisture']:g}:")
     print("| air velocity | D_eff, MR 1-0.5 | MR 0.5-0.1 | ratio | MR 1-0.1 |")
     print("|---|---|---|---|---|")
