@@ -30,7 +30,7 @@ installed file (default <material>-mfc).
 lj_slope`` fits it. r(s) = r0 (1 + lj_slope ln s) sets the cutoff 1.35 r(s), which bounds
 how far a hexagonal tissue can shrink (the second shell must stay outside it) and must
 hold the built lattice every level starts from: lj_slope is kept below
-(1 - 1/1.35) / -ln(driest level) (0.216 for s = 0.3; doc/calibration.md, "Five levels").
+(1 - 1.01/1.35) / -ln(driest level) (0.209 for s = 0.3; doc/calibration.md, "Five levels").
 
 ``--hold``: parameters of the paper's four kept at the start material's value, not fitted
 (k_T and k_PA are collinear on the converged levels: only their ratio is determined, and a
@@ -62,13 +62,17 @@ BOUNDS = {"k_T": (0.01, 100.0), "k_PA": (0.0005, 100.0), "beta_a": (0.85, 1.15),
 #: pair_style cgms cutoff/lj (src/CGMS/pair_cgms.cpp, CUTOFF_FACTOR): the cutoff of a pair
 #: is this times its LJ radius r(s) = r0 (1 + lj_slope ln s)
 CUTOFF_LJ = 1.35
+#: the cutoff at the driest level must reach this far beyond the built lattice's spacing:
+#: the first steps move peripheral beads outwards (measured on 105 beads at s = 0.3: a
+#: nearest neighbour 1.0004 r0 away at step 6, lost with a cutoff of 1.00002 r0)
+START_MARGIN = 1.01
 
 
 def lj_slope_limit(driest):
     """The largest lj_slope with which a level ``driest`` can start from the built lattice:
     every run starts at the lattice spacing r0 = x_ref, so the cutoff 1.35 r(s) must hold
-    it, 1.35 (1 + lj_slope ln s) > 1; above, every bead is isolated at step 0."""
-    return (1 - 1 / CUTOFF_LJ) / -math.log(driest)
+    it with START_MARGIN, 1.35 (1 + lj_slope ln s) >= 1.01; above, beads start isolated."""
+    return (1 - START_MARGIN / CUTOFF_LJ) / -math.log(driest)
 
 
 def stage_bounds(fitted, start, driest):
@@ -139,8 +143,9 @@ def main(argv=None):
     if not 0 <= lj_slope < lj_slope_limit(driest):
         reach = CUTOFF_LJ * (1 + lj_slope * math.log(driest))
         sys.exit(f"fit.py: lj_slope {lj_slope:g}: at s = {driest:g} the cutoff {CUTOFF_LJ} r0 "
-                 f"(1 + lj_slope ln s) = {reach:.4g} r0 would not reach the start lattice's "
-                 f"neighbours (r0 apart); it must be in [0, {lj_slope_limit(driest):.4g})")
+                 f"(1 + lj_slope ln s) = {reach:.4g} r0 would not safely reach the start "
+                 f"lattice's neighbours (r0 apart; {START_MARGIN} r0 is the least): it must be "
+                 f"in [0, {lj_slope_limit(driest):.4g})")
     if "lj_slope" in fitted and lj_slope == 0:
         sys.exit("fit.py: --also lj_slope needs a start lj_slope > 0 (the search runs in "
                  "ln(value / start)): give --lj-slope")
