@@ -254,3 +254,27 @@ def test_cell_shape_energy_is_a_potential_in_dynamics(tmp_path):
     moved = abs(k1 - k0)
     assert moved > 10 * k0
     assert abs(e1 - e0) < 1e-3 * moved, (e0, e1, moved)
+
+
+def test_newton_step_acceptance():
+    """cgms.solve.step_accepted, the rule both Newton solvers (cgms.solve and
+    cgms.mfc_newton) take a step by: a quadratic energy E = |x|^2 / 2 (force -x) from
+    x = (1, 1), E = 1. Armijo with c = 1e-4: a step d is taken if E(x + d) <= E - 1e-4 f.d."""
+    from cgms.solve import step_accepted
+    x = np.array([1.0, 1.0])
+    energy, force = 0.5 * x @ x, -x
+    for d, taken in (([-0.5, -0.5], True),        # halfway down: E 0.25, needs <= 0.9999
+                     ([-1.999, -1.999], True),    # nearly a full overshoot: E 0.999, still down
+                     ([-2.001, -2.001], False),   # past it: E 1.001, up
+                     ([0.1, 0.1], False)):        # uphill
+        y = x + np.array(d)
+        assert step_accepted(energy, force, 0.5 * y @ y, -y, np.array(d), 1e-14) is taken, d
+    # within the rounding of the energy the smaller force decides: a rotation keeps E
+    y = np.array([np.sqrt(2.0), 0.0])
+    step = y - x
+    assert not step_accepted(energy, force, 0.5 * y @ y, -y, step, 1e-14)  # |f| 1.41 > 1
+    z = np.array([0.9, -np.sqrt(2.0 - 0.81)])   # on the circle, largest force component 1.09
+    assert not step_accepted(energy, force, 0.5 * z @ z, -z, z - x, 1e-14)
+    w = np.array([1.0, -1.0])                   # on the circle, largest component 1 = |f|max
+    assert not step_accepted(energy, force, 0.5 * w @ w, np.array([-0.5, 1.1]), w - x, 1e-14)
+    assert step_accepted(energy, force, 0.5 * w @ w, np.array([-0.5, 0.5]), w - x, 1e-14)

@@ -25,7 +25,9 @@ from cgms import material, mfc_model, mfc_study, tissue
 #: - wall_Et: the wall is given the same turgid strain as apple's MFC wall (4.5 %:
 #:   eps = P_f D / (2 E t)), a decision, for lack of a measured potato wall modulus:
 #:   E t = 3e5 Pa x 200e-6 m / (2 x 0.0455) = 660 N/m, i.e. E = 0.66 GPa for the
-#:   1 um wall below.
+#:   1 um wall below. No potato wall modulus was found; single cultured tomato cells
+#:   give E = 2.3 +- 0.2 GPa (Wang, Wang and Thomas 2004, Ann. Bot. 93, 443-453), which
+#:   with a 1 um wall would be E t = 2300 N/m and a turgid strain of 1.3 %.
 #: - wall_thickness: potato parenchyma walls thicken to 0.8-1.36 um at maturity, about
 #:   1 um in Russet Burbank (Am. Potato J., "Cell wall thickness during growth of domestic
 #:   and foreign potato cultivars", doi 10.1007/BF02851771; abstract).

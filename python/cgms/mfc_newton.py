@@ -33,7 +33,8 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
-from .solve import LammpsForces, colour, colouring_holds, without_rigid_motion
+from .solve import (LammpsForces, colour, colouring_holds, step_accepted,
+                    without_rigid_motion)
 
 
 def area_gradient(xy, n_wall):
@@ -193,14 +194,11 @@ def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix
                 for _ in range(4):
                     trial = xy + delta.reshape(-1, 2)
                     e1, f1 = forces(trial)
-                    # Armijo; once the decrease is below the energy's rounding, a smaller
-                    # force
-                    decrease = e1 <= energy - 1e-4 * (rhs @ delta)
-                    flat = abs(e1 - energy) < 1e-14 * abs(energy) and np.abs(f1).max() < fmax
-                    if decrease or flat:
+                    accepted = step_accepted(energy, f, e1, f1, delta, rounding=1e-14)
+                    if accepted:
                         break
                     delta = 0.5 * delta
-                if decrease or flat:
+                if accepted:
                     xy, energy, f = trial, e1, f1
                     mu = mu / 10 if mu > 1e-10 else 0.0
                     break

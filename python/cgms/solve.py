@@ -117,6 +117,17 @@ def colouring_holds(xy, colours, separation):
     return True
 
 
+def step_accepted(energy, force, trial_energy, trial_force, step, rounding):
+    """Whether a Newton step from a state of ``energy`` and ``force`` to one of
+    ``trial_energy`` and ``trial_force`` is taken: a sufficient decrease of the potential
+    (Armijo, c = 1e-4), or, once the change is below the energy's rounding (``rounding``
+    relative; a larger energy rounds coarser), a smaller largest force."""
+    if trial_energy <= energy - 1e-4 * (np.ravel(force) @ np.ravel(step)):
+        return True
+    return bool(abs(trial_energy - energy) < rounding * abs(energy)
+                and np.abs(trial_force).max() < np.abs(force).max())
+
+
 def without_rigid_motion(xy, delta):
     """``delta`` (2n, interleaved) minus its translation and rotation about the centroid."""
     d = delta.reshape(-1, 2)
@@ -207,12 +218,7 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
                     delta *= max_move / move
                 trial = xy + delta.reshape(-1, 2)
                 e1, f1 = forces(trial)
-                # accept a decrease of the potential (Armijo, c = 1e-4); once the
-                # decrease is below the rounding of the energy, a smaller force
-                decrease = e1 <= energy - 1e-4 * (rhs @ delta)
-                flat = abs(e1 - energy) < 1e-11 * abs(energy) and \
-                    np.abs(f1).max() < np.abs(f).max()
-                if decrease or flat:
+                if step_accepted(energy, f, e1, f1, delta, rounding=1e-11):
                     xy, energy, f = trial, e1, f1
                     mu = mu / 10 if mu > 1e-8 else 0.0
                     break

@@ -217,9 +217,9 @@ void PairCGMS::compute(int eflag, int vflag)
 
   const int lj = (repulsion ? LJ_REPULSION : 0) | (attraction ? LJ_ATTRACTION : 0);
   // 2: the cell-shape stiffness differs between beads, k_S(s_i) with s_i varying
-  const int pc = !pair_coefficient_needed()                                   ? 0
+  const int pc = !pair_coefficient_needed()                                ? 0
       : mat.k_S > 0.0 && mat.k_S_exponent != 0.0 && uniform_dryness <= 0.0 ? 2
-                                                                            : 1;
+                                                                           : 1;
 
   // every combination of effects gets its own loop, so a switched-off effect
   // costs neither flops nor branches in the inner loop
@@ -365,9 +365,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
       double fpair = 0.0;
       double evdwl = 0.0;
       if (PAIRCOEF == 1) fpair += (ci + coef[j]) * r1inv - shape_spring;
-      if (PAIRCOEF == 2) {
-        fpair += (ci + coef[j]) * r1inv - kSi - shape_k[j];
-      }
+      if (PAIRCOEF == 2) fpair += (ci + coef[j]) * r1inv - kSi - shape_k[j];
       if (LJ) {
         const double q2 = rad * rad * r2inv;
         const double q4 = q2 * q2;
