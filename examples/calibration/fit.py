@@ -91,8 +91,9 @@ def main(argv=None):
                                   "reference/mfc/<material>-calibration (others)")
     ap.add_argument("--out", default="results/calibration-mfc")
     ap.add_argument("--levels", default="1,0.8,0.6",
-                    help="levels to fit (default 1,0.8,0.6: the MFC's 0.4 and 0.3 are far "
-                         "outside what CGMS can shrink to; doc/calibration.md)")
+                    help="levels to fit (default 1,0.8,0.6: with the paper's lj_slope the "
+                         "MFC's 0.4 and 0.3 are beyond what CGMS can shrink to; see --lj-slope "
+                         "and doc/calibration.md, \"Five levels\")")
     ap.add_argument("--also", default="",
                     help="material parameters fitted with the paper's four, comma separated "
                          "(e.g. turgid_ratio: the fresh cell's perimeter, the only thing "
