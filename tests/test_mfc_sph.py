@@ -38,14 +38,38 @@ def kernel(r, h, name):
     return 7.0 / (math.pi * h * h) * (1 + 4 * q) * (1 - q) ** 4
 
 
-def oracle(x, v, rho, types, name, eps, n):
+def wall_density(x, rho, types, name, walls):
+    """Densities with every particle of a type in ``walls`` given the pressure of the fluid
+    around it (Adami, Hu and Adams, J. Comput. Phys. 231, 2012, 7057, eqs. 27-28, no body
+    force): P_w = sum_f P_f W_wf / sum_f W_wf over the fluid (non-wall) particles within
+    the pair's support, 0 without any; rho_w from the Tait EOS of its own type,
+    P_w = B [(rho_w/rho0)^7 - 1]."""
+    b = {t: c * c * r0 / 7 for t, (r0, c) in EOS.items()}
+    press = np.array([b[t] * ((rh / EOS[t][0]) ** 7 - 1) for t, rh in zip(types, rho)])
+    out = np.array(rho, float)
+    for w in np.flatnonzero(np.isin(types, walls)):
+        num = den = 0.0
+        for f in np.flatnonzero(~np.isin(types, walls)):
+            h = PAIRS[tuple(sorted((types[w], types[f])))][1]
+            wf = kernel(math.hypot(*(x[w] - x[f])), h, name)
+            num, den = num + press[f] * wf, den + wf
+        pw = num / den if den > 0 else 0.0
+        out[w] = EOS[types[w]][0] * (1 + pw / b[types[w]]) ** (1 / 7)
+    return out
+
+
+def oracle(x, v, rho, types, name, eps, n, walls=()):
     """Forces and density rates of SPH (Monaghan, Rep. Prog. Phys. 68, 2005, 1703):
     m_i dv_i/dt = -sum_j m_i m_j (P_i/rho_i^2 + P_j/rho_j^2 + R_ij f_ij^n) grad_i W_ij
                   + sum_j m_i m_j (mu_i + mu_j) / (rho_i rho_j) (1/r dW/dr) v_ij
     (Morris, Fox and Zhu, J. Comput. Phys. 136, 1997, 214, with mu_i = mu_j = mu of the
     pair), R_ij = R_i + R_j, R_i = eps |P_i| / rho_i^2 where P_i < 0, f_ij = W(r)/W(dp)
     (Monaghan, J. Comput. Phys. 159, 2000, 290), Tait P = c0^2 rho0/7 [(rho/rho0)^7 - 1],
-    drho_i/dt = sum_j m_j v_ij . grad_i W_ij. dW/dr by central differences of W."""
+    drho_i/dt = sum_j m_j v_ij . grad_i W_ij. dW/dr by central differences of W.
+    Particles of the types ``walls`` take their density from :func:`wall_density`,
+    interact only with the fluid and have no density rate."""
+    if len(walls):
+        rho = wall_density(x, rho, types, name, walls)
     b = {t: c * c * r0 / 7 for t, (r0, c) in EOS.items()}
     press = np.array([b[t] * ((rh / EOS[t][0]) ** 7 - 1) for t, rh in zip(types, rho)])
     ratio = press / rho ** 2
@@ -53,7 +77,7 @@ def oracle(x, v, rho, types, name, eps, n):
     f, drho = np.zeros_like(x), np.zeros(len(x))
     for i in range(len(x)):
         for j in range(len(x)):
-            if i == j:
+            if i == j or (types[i] in walls and types[j] in walls):
                 continue
             mu, h, dp = PAIRS[tuple(sorted((types[i], types[j])))]
             d = x[i] - x[j]
@@ -67,7 +91,8 @@ def oracle(x, v, rho, types, name, eps, n):
             fij = kernel(r, h, name) / kernel(dp, h, name)
             f[i] -= mi * mj * (ratio[i] + ratio[j] + (art[i] + art[j]) * fij ** n) * grad
             f[i] += mi * mj * 2 * mu / (rho[i] * rho[j]) * dwdr / r * (v[i] - v[j])
-            drho[i] += mj * np.dot(v[i] - v[j], grad)
+            if types[i] not in walls:
+                drho[i] += mj * np.dot(v[i] - v[j], grad)
     return f, drho
 
 
@@ -82,10 +107,10 @@ def particles(seed=3, count=9):
     return x, v, rho, types
 
 
-def lammps_forces(x, v, rho, types, style, settings="", newton="on"):
+def lammps_forces(x, v, rho, types, style, settings="", newton="on", densities=False):
     """``run 0`` of the particles with ``style`` (sph/taitwater/ap or LAMMPS's
-    sph/taitwater/morris): forces and density rates, by atom ID. Positions (n, 2) in 2-d,
-    (n, 3) in 3-d."""
+    sph/taitwater/morris): forces and density rates, by atom ID, and with ``densities``
+    the densities. Positions (n, 2) in 2-d, (n, 3) in 3-d."""
     dim = x.shape[1]
     lmp = run.open_lammps()
     try:
@@ -111,9 +136,10 @@ def lammps_forces(x, v, rho, types, style, settings="", newton="on"):
         n = len(x)
         f = np.array(lmp.gather_atoms("f", 1, 3)).reshape(n, 3)[:, :dim]
         drho = np.array(lmp.gather_atoms("drho", 1, 1))
+        dens = np.array(lmp.gather_atoms("rho", 1, 1))
     finally:
         lmp.close()
-    return f, drho
+    return (f, drho, dens) if densities else (f, drho)
 
 
 @pytest.mark.parametrize("name", ["lucy", "wendland"])
@@ -131,6 +157,40 @@ def test_pair_force_against_numpy_oracle(name):
     assert np.abs(fz - fo).max() > 1e-3 * scale
     # Newton's third law: the pair forces sum to zero
     assert np.abs(f.sum(axis=0)).max() < 1e-12 * scale
+
+
+@pytest.mark.parametrize("name", ["lucy", "wendland"])
+def test_adami_walls_against_numpy_oracle(name):
+    """``wall 1``: type 1 takes the pressure of the type-2 fluid around it (some of it in
+    tension) and acts on the fluid only; forces, density rates and the walls' densities as
+    the oracle's, Newton's third law; without the keyword the forces differ."""
+    x, v, rho, types = particles(seed=4, count=11)
+    eps, n = 0.2, 4
+    settings = f"kernel {name} epsilon {eps} exponent {n}"
+    f, drho, dens = lammps_forces(x, v, rho, types, "sph/taitwater/ap", settings + " wall 1",
+                                  densities=True)
+    fo, do = oracle(x, v, rho, types, name, eps, n, walls=(1,))
+    scale = np.abs(fo).max()
+    assert scale > 0 and np.abs(f - fo).max() < 1e-6 * scale, np.abs(f - fo).max() / scale
+    assert np.abs(drho - do).max() < 1e-6 * np.abs(do).max()
+    wall = types == 1
+    assert np.all(drho[wall] == 0.0)
+    assert np.abs(dens / wall_density(x, rho, types, name, (1,)) - 1).max() < 1e-12
+    assert np.abs(dens[wall] / rho[wall] - 1).max() > 1e-3    # not the given densities
+    assert np.abs(f.sum(axis=0)).max() < 1e-12 * scale
+    fd, _ = oracle(x, v, rho, types, name, eps, n)
+    assert np.abs(fd - fo).max() > 1e-2 * scale
+
+
+def test_adami_walls_newton_off_gives_the_same_forces():
+    x, v, rho, types = particles(seed=6, count=11)
+    settings = "kernel wendland epsilon 0.2 wall 1"
+    f_on, d_on, r_on = lammps_forces(x, v, rho, types, "sph/taitwater/ap", settings, "on", True)
+    f_off, d_off, r_off = lammps_forces(x, v, rho, types, "sph/taitwater/ap", settings, "off",
+                                        True)
+    assert np.abs(f_on - f_off).max() < 1e-12 * np.abs(f_on).max()
+    assert np.abs(d_on - d_off).max() < 1e-12 * np.abs(d_on).max()
+    assert np.abs(r_on - r_off).max() < 1e-14 * np.abs(r_on).max()
 
 
 def test_artificial_pressure_off_is_lammps_sph_taitwater_morris():
@@ -166,9 +226,10 @@ def test_newton_off_gives_the_same_forces():
 
 # --------------------------------------------------------------------------- dynamics
 
-def block_script(newton="on", tail="", head="", columns="x y vx vy"):
+def block_script(newton="on", tail="", head="", columns="x y vx vy", walls=""):
     """A block of fluid in tension (3 % below its rest density) between two columns of
-    boundary particles, run 400 steps: particles move, densities change."""
+    boundary particles (type 1; ``walls`` "1": Adami's walls), run 400 steps: particles
+    move, densities change."""
     rng = np.random.default_rng(11)
     g = np.arange(12) * 4.0e-6
     xy = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
@@ -183,11 +244,12 @@ def block_script(newton="on", tail="", head="", columns="x y vx vy"):
              for i, j in ((1, 1), (1, 2), (2, 2))]
     script = "\n".join([
         f"plugin load {PLUGIN}", "units si", "dimension 2", "boundary f f p",
-        f"newton {newton}", "atom_style sph", "atom_modify map array sort 0 0",
+        f"newton {newton}", "processors 1 * 1", "atom_style sph", "atom_modify map array sort 0 0",
         "comm_modify vel yes", head or "read_data block.data", "neighbor 1e-6 bin",
-        "pair_style sph/taitwater/ap kernel lucy epsilon 0.2", *([] if head else coeff),
+        "pair_style sph/taitwater/ap kernel lucy epsilon 0.2" + (f" wall {walls}" if walls else ""),
+        *([] if head else coeff),
         "fix int all sph", "fix 2d all enforce2d", "timestep 2e-10",
-        tail or "run 400",
+        "compute rho all sph/rho/atom", tail or "run 400",
         f"write_dump all custom out.dump id {columns} modify sort id format float %.17g",
         ""])
     return "\n".join(data) + "\n", script
@@ -200,15 +262,22 @@ def positions(folder):
 
 
 @pytest.mark.mpi
-def test_one_and_two_ranks_and_newton_agree(tmp_path):
+@pytest.mark.parametrize("walls", ["", "1"])
+def test_one_and_two_ranks_and_newton_agree(tmp_path, walls):
+    """With Adami's walls the walls' sums over fluid on the other rank come back by reverse
+    communication (newton on) and their densities go out to the ghosts: the ranks split
+    the block across its wall columns."""
     out = {}
     for name, nprocs, newton in (("serial", 1, "on"), ("mpi", 2, "on"), ("off", 2, "off")):
         folder = tmp_path / name
         folder.mkdir()
-        data, script = block_script(newton)
+        data, script = block_script(newton, walls=walls, columns="x y vx vy c_rho")
         (folder / "block.data").write_text(data)
         run_lmp(folder, script, nprocs=nprocs)
         out[name] = positions(folder)
+    if walls:     # the walls' densities follow the fluid's pressure (compressed here)
+        wall = positions_initial(tmp_path)[:, 0] < 3e-6
+        assert np.all(out["serial"][wall, 4] > 6e-3 * (1 + 1e-3))
     moved = np.abs(out["serial"][:, :2] - positions_initial(tmp_path)).max()
     assert moved > 1e-8          # the block does move (tension pulls it together)
     for name in ("mpi", "off"):
@@ -220,21 +289,24 @@ def positions_initial(tmp_path):
     return np.array([[float(w) for w in r.split()[5:7]] for r in rows])
 
 
-def test_restart_keeps_the_coefficients(tmp_path):
+@pytest.mark.parametrize("walls", ["", "1"])
+def test_restart_keeps_the_coefficients(tmp_path, walls):
     """write_restart at step 200; read_restart and ``run 0`` without any pair command gives
     the forces of the same restart with the pair_style and pair_coeff commands given again
     (settings and coefficients restored). (The forces of the step written differ: they used
     the half-step density of fix sph. Continuing both for 200 more steps, LAMMPS's SPH runs,
     with this style or its own, differ by 1e-6 in the velocities.)"""
-    data, first = block_script(tail="run 200\nwrite_restart half.restart")
+    data, first = block_script(tail="run 200\nwrite_restart half.restart", walls=walls)
     (tmp_path / "block.data").write_text(data)
     run_lmp(tmp_path, first)
     # block_script with a head gives no pair_coeff lines: the restart's own coefficients
-    _, restored = block_script(head="read_restart half.restart", tail="run 0", columns="fx fy")
-    run_lmp(tmp_path, restored.replace(
-        "pair_style sph/taitwater/ap kernel lucy epsilon 0.2\n", ""))
+    _, restored = block_script(head="read_restart half.restart", tail="run 0",
+                               columns="fx fy c_rho", walls=walls)
+    style = "pair_style sph/taitwater/ap kernel lucy epsilon 0.2" + (f" wall {walls}" if walls else "")
+    assert style + "\n" in restored
+    run_lmp(tmp_path, restored.replace(style + "\n", ""))
     kept = positions(tmp_path)
-    _, given = block_script(tail="run 0", columns="fx fy")
+    _, given = block_script(tail="run 0", columns="fx fy c_rho", walls=walls)
     run_lmp(tmp_path, given.replace("read_data block.data", "read_restart half.restart"))
     again = positions(tmp_path)
     assert np.abs(again).max() > 0
@@ -247,6 +319,8 @@ def test_restart_keeps_the_coefficients(tmp_path):
     ("pair_style sph/taitwater/ap exponent 0", "exponent must be an integer >= 1, not 0"),
     ("pair_style sph/taitwater/ap epsilon", "keyword epsilon needs a value"),
     ("pair_style sph/taitwater/ap shift 1", "Unknown pair sph/taitwater/ap keyword shift"),
+    ("pair_style sph/taitwater/ap wall 3", "Numeric index 3 is out of bounds (1-2)"),
+    ("pair_style sph/taitwater/ap wall", "keyword wall needs a value"),
     ("pair_coeff 1 1 6e-3 90 6e-9 1.1e-5", "I J rho0 c0 viscosity h dp"),
     ("pair_coeff 1 1 6e-3 90 6e-9 1.1e-5 1.2e-5", "spacing dp = 1.2e-05 must be smaller"),
     ("pair_coeff 1 1 -6e-3 90 6e-9 1.1e-5 4e-6", "rho0 must be > 0, not -6e-3"),
@@ -376,3 +450,16 @@ def test_water_mass_holds_the_fast_variants_water(tmp_path):
     assert abs((after["fluid"][0] + layer) / p["A_ref"] - 1) < 1e-9
     # the relaxed fill holds less than A0 with its layer: the mass did change
     assert abs(after["fluid"][0] / before["fluid"][0] - 1) > 1e-4
+
+
+def test_fluid_style_picks_the_wall_coupling():
+    """``sph_boundary`` "adami" gives the walls (types 1-3) the fluid's pressure, on any
+    kernel and artificial pressure; "dynamic" (the default) keeps LAMMPS's style where it
+    can; anything else is refused."""
+    assert mfc_sph.fluid_style({}) == ("sph/taitwater/morris", "")
+    assert mfc_sph.fluid_style({"sph_boundary": "adami"}) == (
+        "sph/taitwater/ap", "kernel lucy epsilon 0 wall 1*3")
+    assert mfc_sph.fluid_style({"sph_ap": 0.2, "sph_kernel": "wendland"}) == (
+        "sph/taitwater/ap", "kernel wendland epsilon 0.2")
+    with pytest.raises(ValueError, match="sph_boundary must be one of dynamic, adami"):
+        mfc_sph.fluid_style({"sph_boundary": "mirror"})

@@ -14,10 +14,13 @@ SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with t
 fluid, or "density", the fluid put in tension, the route before), ``--mass`` how it sets the fluid mass
 ("scaled", s times the fresh fill's; "water", affine only: the fast variant's water s A0
 with the layer between fluid and wall, measured again once a level is reached), ``--ap`` Monaghan's
-artificial pressure factor and ``--kernel`` the kernel (both: pair sph/taitwater/ap;
-default LAMMPS's sph/taitwater/morris). Per level it prints also the SPH fluid: its area
+artificial pressure factor, ``--kernel`` the kernel and ``--boundary`` the wall-fluid
+coupling ("dynamic": walls with their own continuity density; "adami": walls take the
+fluid's pressure; any of the three: pair sph/taitwater/ap; all at their defaults LAMMPS's
+sph/taitwater/morris). Per level it prints also the SPH fluid: its area
 sum m/rho, the layer between it and the wall, the share of the ring it leaves void, the
-mean distance to the nearest fluid particle over the spacing (pairing) and the pressures.
+mean distance to the nearest fluid particle over the spacing (pairing), the pressures (also
+next to the wall) and the fast variant's EOS pressure on its own ring and on SPH's.
 ``--from-fast``:
 the SPH model started from the fast variant's steady state of each level (every ring
 filled with SPH fluid at rest, ``cgms.mfc_sph.write_state``), walls optionally kicked at
@@ -100,13 +103,16 @@ def main():
                         help="fluid mass per level (water: affine path only)")
     parser.add_argument("--ap", type=float, default=0.0, help="artificial pressure epsilon")
     parser.add_argument("--kernel", choices=("lucy", "wendland"), default="lucy")
+    parser.add_argument("--boundary", choices=mfc_sph.BOUNDARIES, default="dynamic",
+                        help="wall-fluid coupling (adami: walls take the fluid's pressure)")
     parser.add_argument("--chunks", type=int, default=200,
                         help="most chunks of %d SPH steps per level" % STEPS)
     args = parser.parse_args()
     if args.mass == "water" and args.path != "affine":
         parser.error("--mass water needs --path affine")
     ncell, levels = args.cells, [float(s) for s in args.levels.split(",")]
-    p = mfc_model.parameters(sph_ap=args.ap, sph_kernel=args.kernel)
+    p = mfc_model.parameters(sph_ap=args.ap, sph_kernel=args.kernel,
+                             sph_boundary=args.boundary)
     centres = cluster(ncell)
     folder = Path(tempfile.mkdtemp(prefix="mfc-sph-"))
     # the fast variant (one LAMMPS instance at a time: the plugin loads once per process)
@@ -192,7 +198,14 @@ def main():
               f"{fl['layer'].mean() * 1e6:.2f} um, void {fl['void'].max():.2%}, nearest "
               f"neighbour {fl['nearest'].min():.2f} spacings, P {fl['pressure'].mean() / 1e3:.1f}"
               f" +- {fl['pressure_sd'].mean() / 1e3:.1f} kPa, walls "
-              f"{fl['wall_pressure'].mean() / 1e3:.1f} kPa", flush=True)
+              f"{fl['wall_pressure'].mean() / 1e3:.1f} kPa, within h of the wall "
+              f"{fl['near_wall_pressure'].mean() / 1e3:.1f} kPa", flush=True)
+        # the fast variant's EOS, P_T + K[(A_f/A)^7 - 1], on its own ring and on SPH's
+        eos = [mfc_sph.pressure(p, s, p["rho0"] * p["height"]
+                                * mfc_model.level(p, s)["fluid_area"] / c["area"]).mean()
+               for c in (cf, cs)]
+        print(f"        fast EOS pressure: on the fast ring {eos[0] / 1e3:.2f} kPa, on the SPH "
+              f"ring {eos[1] / 1e3:.1f} kPa", flush=True)
     sph.close()
 
 

@@ -30,20 +30,32 @@ SUPPORT = 13.0e-6    # kernel support h (2.6 fluid spacings, LAMMPS's cavity-flo
 TAU = 2.0e-7         # damping time of fix viscous, s (2 us: the fresh cell inflates, doc/mfc.md)
 
 
+#: how the walls meet the fluid (doc/mfc.md): "dynamic", walls are SPH particles with their
+#: own continuity density (MFC.md's coupling); "adami", a wall takes the pressure of the
+#: fluid around it (Adami, Hu and Adams, J. Comput. Phys. 231, 2012, 7057)
+BOUNDARIES = ("dynamic", "adami")
+
+
 def fluid_style(p):
-    """``(style, settings)`` of the SPH fluid's pair style, chosen by two optional
-    parameters: ``sph_ap`` (Monaghan's artificial pressure factor epsilon; 0 = off) and
-    ``sph_kernel`` ("lucy" or "wendland"). Both at their defaults: LAMMPS's own
-    sph/taitwater/morris; otherwise the plugin's sph/taitwater/ap
-    (doc/pair_sph_taitwater_ap.rst), which holds the fluid in tension."""
+    """``(style, settings)`` of the SPH fluid's pair style, chosen by three optional
+    parameters: ``sph_ap`` (Monaghan's artificial pressure factor epsilon; 0 = off),
+    ``sph_kernel`` ("lucy" or "wendland") and ``sph_boundary`` (BOUNDARIES). All at their
+    defaults: LAMMPS's own sph/taitwater/morris; otherwise the plugin's sph/taitwater/ap
+    (doc/pair_sph_taitwater_ap.rst), which holds the fluid in tension and has Adami's
+    walls (types 1-3)."""
     ap, kernel = p.get("sph_ap", 0.0), p.get("sph_kernel", "lucy")
+    boundary = p.get("sph_boundary", "dynamic")
     if kernel not in ("lucy", "wendland"):
         raise ValueError(f"sph_kernel must be lucy or wendland, got {kernel!r}")
     if not ap >= 0:
         raise ValueError(f"sph_ap (artificial pressure factor) must be >= 0, got {ap!r}")
-    if ap == 0 and kernel == "lucy":
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"sph_boundary must be one of {', '.join(BOUNDARIES)}, "
+                         f"got {boundary!r}")
+    if ap == 0 and kernel == "lucy" and boundary == "dynamic":
         return "sph/taitwater/morris", ""
-    return "sph/taitwater/ap", f"kernel {kernel} epsilon {ap:g}"
+    walls = " wall 1*3" if boundary == "adami" else ""
+    return "sph/taitwater/ap", f"kernel {kernel} epsilon {ap:g}{walls}"
 
 
 def tait(p, s):
@@ -266,7 +278,8 @@ def fluid_state(lmp, p, s):
     spacing of level s from every fluid particle: holes the fluid left), ``nearest`` (mean
     distance to the nearest fluid particle of the cell over that spacing: a fluid that
     pairs up falls towards 0), ``pressure`` and ``pressure_sd`` (its particles' Tait
-    pressure, Pa) and the walls' mean ``wall_pressure`` (Pa)."""
+    pressure, Pa), the mean ``near_wall_pressure`` of its particles within the kernel support
+    of its wall (Pa) and the walls' mean ``wall_pressure`` (Pa)."""
     n = lmp.get_natoms()
     x = np.array(lmp.gather_atoms("x", 1, 3), float).reshape(n, 3)[:, :2]
     rho = np.array(lmp.gather_atoms("rho", 1, 1), float)
@@ -279,7 +292,8 @@ def fluid_state(lmp, p, s):
     press = pressure(p, s, rho)
     dx = p["fluid_spacing"] * math.sqrt(s)
     out = {k: np.empty(len(cells["area"])) for k in (
-        "fluid", "void", "nearest", "pressure", "pressure_sd", "wall_pressure")}
+        "fluid", "void", "nearest", "pressure", "pressure_sd", "near_wall_pressure",
+        "wall_pressure")}
     for c, ring in enumerate(walls.reshape(-1, p["n_wall"], 2)):
         own = np.flatnonzero((mol == c + 1) & (np.arange(n) >= nw))
         tree = cKDTree(x[own])
@@ -291,6 +305,8 @@ def fluid_state(lmp, p, s):
         grid = grid[tissue._inside(grid, ring, 0.0, closed=False)]
         out["void"][c] = np.mean(tree.query(grid)[0] > dx)
         out["pressure"][c], out["pressure_sd"][c] = press[own].mean(), press[own].std()
+        near = cKDTree(ring).query(x[own])[0] < SUPPORT
+        out["near_wall_pressure"][c] = press[own][near].mean() if near.any() else np.nan
         out["wall_pressure"][c] = press[c * p["n_wall"]:(c + 1) * p["n_wall"]].mean()
     out.update(walls=walls, ring=cells["area"],
                layer=(cells["area"] - out["fluid"]) / cells["perimeter"])

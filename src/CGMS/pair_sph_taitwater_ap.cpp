@@ -3,7 +3,9 @@
 
    The pressure, viscosity and density terms follow LAMMPS's
    pair sph/taitwater/morris (src/SPH); added here: Monaghan's artificial
-   pressure and Wendland's C2 kernel.
+   pressure, Wendland's C2 kernel and, as an option, walls whose pressure is
+   extrapolated from the fluid next to them (Adami, Hu and Adams, J. Comput.
+   Phys. 231, 2012, 7057, eqs. 27-28).
 ------------------------------------------------------------------------- */
 
 #include "pair_sph_taitwater_ap.h"
@@ -28,8 +30,9 @@ using MathSpecial::powint;
 /* ---------------------------------------------------------------------- */
 
 PairSPHTaitwaterAP::PairSPHTaitwaterAP(LAMMPS *lmp) :
-    Pair(lmp), kernel(LUCY), epsilon(0.2), exponent(4), rho0(nullptr), soundspeed(nullptr),
-    B(nullptr), cut(nullptr), viscosity(nullptr), spacing(nullptr), wdp_inv(nullptr)
+    Pair(lmp), kernel(LUCY), epsilon(0.2), exponent(4), walllo(0), wallhi(-1), wsum(nullptr),
+    wnorm(nullptr), nmax(0), rho0(nullptr), soundspeed(nullptr), B(nullptr), cut(nullptr),
+    viscosity(nullptr), spacing(nullptr), wdp_inv(nullptr)
 {
   if ((atom->esph_flag != 1) || (atom->rho_flag != 1) || (atom->vest_flag != 1))
     error->all(FLERR,
@@ -38,12 +41,16 @@ PairSPHTaitwaterAP::PairSPHTaitwaterAP(LAMMPS *lmp) :
 
   restartinfo = 1;
   single_enable = 0;
+  comm_forward = 1;    // the walls' densities
+  comm_reverse = 2;    // the walls' sums over ghost fluid particles
 }
 
 /* ---------------------------------------------------------------------- */
 
 PairSPHTaitwaterAP::~PairSPHTaitwaterAP()
 {
+  memory->destroy(wsum);
+  memory->destroy(wnorm);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -70,11 +77,99 @@ double PairSPHTaitwaterAP::shape(double q) const
   return (1.0 + 3.0 * q) * u * u * u;
 }
 
+/* ----------------------------------------------------------------------
+   Adami, Hu and Adams (2012), eqs. 27-28: a wall particle takes the pressure of
+   the fluid around it, P_w = sum_f P_f W_wf / sum_f W_wf (their body-force and
+   wall-acceleration term left out: no gravity here, and the walls move slowly
+   against the sound speed), and the density of that pressure in its own
+   type's EOS. Stored in rho, so that the pair loop treats walls as any
+   particle; tension reaches the wall as compression does. A wall without fluid
+   neighbours is at P = 0.
+------------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::wall_densities()
+{
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    memory->destroy(wsum);
+    memory->destroy(wnorm);
+    memory->create(wsum, nmax, "pair:wsum");
+    memory->create(wnorm, nmax, "pair:wnorm");
+  }
+
+  double **x = atom->x;
+  double *rho = atom->rho;
+  int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+  const int ntotal = newton_pair ? nlocal + atom->nghost : nlocal;
+  for (int i = 0; i < ntotal; i++) wsum[i] = wnorm[i] = 0.0;
+
+  // W = wnorm0 / h^dim * shape(q); the norm matters where pairs differ in h
+  const int dim3 = domain->dimension == 3;
+  double wnorm0;
+  if (kernel == WENDLAND)
+    wnorm0 = dim3 ? 21.0 / (2.0 * MY_PI) : 7.0 / MY_PI;
+  else
+    wnorm0 = dim3 ? 105.0 / (16.0 * MY_PI) : 5.0 / MY_PI;
+
+  const int inum = list->inum;
+  int *ilist = list->ilist;
+  int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const int itype = type[i];
+    const int iwall = is_wall(itype);
+    int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const int jtype = type[j];
+      if (is_wall(jtype) == iwall) continue;
+      const double delx = x[i][0] - x[j][0];
+      const double dely = x[i][1] - x[j][1];
+      const double delz = x[i][2] - x[j][2];
+      const double rsq = delx * delx + dely * dely + delz * delz;
+      if (rsq >= cutsq[itype][jtype]) continue;
+
+      const double h = cut[itype][jtype];
+      double w = wnorm0 / (h * h) * shape(sqrt(rsq) / h);
+      if (dim3) w /= h;
+      const int wall = iwall ? i : j;
+      const int fluid = iwall ? j : i;
+      if (wall >= nlocal && !newton_pair) continue;
+      const double tmp = rho[fluid] / rho0[type[fluid]];
+      const double tmp3 = tmp * tmp * tmp;
+      wsum[wall] += B[type[fluid]] * (tmp3 * tmp3 * tmp - 1.0) * w;
+      wnorm[wall] += w;
+    }
+  }
+  if (newton_pair) comm->reverse_comm(this);
+
+  for (int i = 0; i < nlocal; i++) {
+    const int itype = type[i];
+    if (!is_wall(itype)) continue;
+    const double pw = wnorm[i] > 0.0 ? wsum[i] / wnorm[i] : 0.0;
+    const double ratio = 1.0 + pw / B[itype];
+    // a mean of fluid pressures is above -B of the fluid; a wall type's EOS may differ
+    if (ratio <= 0.0)
+      error->one(FLERR,
+                 "Pair sph/taitwater/ap: wall atom {} takes the fluid's pressure {} beyond "
+                 "the tension -B = {} its type's equation of state holds",
+                 atom->tag[i], pw, -B[itype]);
+    rho[i] = rho0[itype] * pow(ratio, 1.0 / 7.0);
+  }
+  comm->forward_comm(this);
+}
+
 /* ---------------------------------------------------------------------- */
 
 void PairSPHTaitwaterAP::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  if (walllo > 0) wall_densities();
 
   double **v = atom->vest;
   double **x = atom->x;
@@ -109,6 +204,7 @@ void PairSPHTaitwaterAP::compute(int eflag, int vflag)
     int *jlist = firstneigh[i];
     const int jnum = numneigh[i];
     const double imass = mass[itype];
+    const int iwall = is_wall(itype);
 
     // P_i / rho_i^2 from the Tait EOS; the artificial pressure R_i acts only in tension
     double tmp = rho[i] / rho0[itype];
@@ -127,6 +223,9 @@ void PairSPHTaitwaterAP::compute(int eflag, int vflag)
       const int jtype = type[j];
 
       if (rsq >= cutsq[itype][jtype]) continue;
+      // walls interact only with the fluid (Adami et al.: their pressure is the fluid's)
+      const int jwall = is_wall(jtype);
+      if (iwall && jwall) continue;
 
       const double jmass = mass[jtype];
       const double h = cut[itype][jtype];
@@ -162,14 +261,15 @@ void PairSPHTaitwaterAP::compute(int eflag, int vflag)
       f[i][0] += delx * fpair + velx * fvisc;
       f[i][1] += dely * fpair + vely * fvisc;
       f[i][2] += delz * fpair + velz * fvisc;
-      drho[i] += jmass * delVdotDelR * wfd;
+      // a wall's density is its fluid's pressure, not a continuity density
+      if (!iwall) drho[i] += jmass * delVdotDelR * wfd;
       desph[i] += deltaE;
 
       if (newton_pair || j < nlocal) {
         f[j][0] -= delx * fpair + velx * fvisc;
         f[j][1] -= dely * fpair + vely * fvisc;
         f[j][2] -= delz * fpair + velz * fvisc;
-        drho[j] += imass * delVdotDelR * wfd;
+        if (!jwall) drho[j] += imass * delVdotDelR * wfd;
         desph[j] += deltaE;
       }
 
@@ -205,6 +305,7 @@ void PairSPHTaitwaterAP::allocate()
 
 /* ----------------------------------------------------------------------
    pair_style sph/taitwater/ap [kernel lucy|wendland] [epsilon eps] [exponent n]
+     [wall I*J]
 ------------------------------------------------------------------------- */
 
 void PairSPHTaitwaterAP::settings(int narg, char **arg)
@@ -212,6 +313,8 @@ void PairSPHTaitwaterAP::settings(int narg, char **arg)
   kernel = LUCY;
   epsilon = 0.2;
   exponent = 4;
+  walllo = 0;
+  wallhi = -1;
   int iarg = 0;
   while (iarg < narg) {
     const std::string key = arg[iarg];
@@ -232,6 +335,8 @@ void PairSPHTaitwaterAP::settings(int narg, char **arg)
       exponent = utils::inumeric(FLERR, value, false, lmp);
       if (exponent < 1)
         error->all(FLERR, "Pair sph/taitwater/ap exponent must be an integer >= 1, not {}", value);
+    } else if (key == "wall") {
+      utils::bounds(FLERR, value, 1, atom->ntypes, walllo, wallhi, error);
     } else
       error->all(FLERR, "Unknown pair sph/taitwater/ap keyword {}", key);
     iarg += 2;
@@ -364,6 +469,8 @@ void PairSPHTaitwaterAP::write_restart_settings(FILE *fp)
   fwrite(&kernel, sizeof(int), 1, fp);
   fwrite(&epsilon, sizeof(double), 1, fp);
   fwrite(&exponent, sizeof(int), 1, fp);
+  fwrite(&walllo, sizeof(int), 1, fp);
+  fwrite(&wallhi, sizeof(int), 1, fp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -374,8 +481,60 @@ void PairSPHTaitwaterAP::read_restart_settings(FILE *fp)
     utils::sfread(FLERR, &kernel, sizeof(int), 1, fp, nullptr, error);
     utils::sfread(FLERR, &epsilon, sizeof(double), 1, fp, nullptr, error);
     utils::sfread(FLERR, &exponent, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &walllo, sizeof(int), 1, fp, nullptr, error);
+    utils::sfread(FLERR, &wallhi, sizeof(int), 1, fp, nullptr, error);
   }
   MPI_Bcast(&kernel, 1, MPI_INT, 0, world);
   MPI_Bcast(&epsilon, 1, MPI_DOUBLE, 0, world);
   MPI_Bcast(&exponent, 1, MPI_INT, 0, world);
+  MPI_Bcast(&walllo, 1, MPI_INT, 0, world);
+  MPI_Bcast(&wallhi, 1, MPI_INT, 0, world);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairSPHTaitwaterAP::pack_forward_comm(int n, int *list, double *buf, int /*pbc_flag*/,
+                                          int * /*pbc*/)
+{
+  double *rho = atom->rho;
+  for (int k = 0; k < n; k++) buf[k] = rho[list[k]];
+  return n;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::unpack_forward_comm(int n, int first, double *buf)
+{
+  double *rho = atom->rho;
+  for (int k = 0; k < n; k++) rho[first + k] = buf[k];
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairSPHTaitwaterAP::pack_reverse_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    buf[m++] = wsum[i];
+    buf[m++] = wnorm[i];
+  }
+  return m;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::unpack_reverse_comm(int n, int *list, double *buf)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++) {
+    wsum[list[k]] += buf[m++];
+    wnorm[list[k]] += buf[m++];
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+double PairSPHTaitwaterAP::memory_usage()
+{
+  return Pair::memory_usage() + 2.0 * nmax * sizeof(double);
 }
