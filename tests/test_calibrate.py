@@ -279,3 +279,31 @@ def test_fit_per_level_beta_against_a_moved_reference(tissue86, references, tmp_
     assert result["material"]["beta_a"] == pytest.approx(MAT["beta_a"] * TRUE["beta"], rel=0.02)
     assert result["material"]["beta_b"] == pytest.approx(MAT["beta_b"] * TRUE["beta"], rel=0.02)
     assert max(result["rmsd_x_ref"].values()) < 1e-4
+
+
+def test_centroid_distance_slope_of_a_lattice_shrunk_by_the_paper_s_law():
+    """A lattice scaled about any point by 1 + c ln s at each level, then turned and moved,
+    gives back c (every neighbour distance has the ratio 1 + c ln s) and the ratios."""
+    lattice = tissue.rectangle(1.25e-3, 1.5e-3, 150e-6)
+    c, levels = 0.31, (0.8, 0.5, 0.3)
+    turn = np.array([[math.cos(0.4), -math.sin(0.4)], [math.sin(0.4), math.cos(0.4)]])
+    dried = {s: (lattice - lattice[5]) * (1 + c * math.log(s)) @ turn.T + [2e-3, -1e-3]
+             for s in levels}
+    slope, ratio = calibrate.centroid_distance_slope(lattice, dried)
+    assert slope == pytest.approx(c, rel=1e-12)
+    for s in levels:
+        assert ratio[s] == pytest.approx(1 + c * math.log(s), rel=1e-12)
+
+
+def test_centroid_distance_slope_averages_over_the_fresh_neighbour_pairs():
+    """A level stretched along x only: the ratio is the mean over the fresh first-shell
+    pairs (brute force here) of stretched over fresh length; second-shell pairs excluded."""
+    lattice = tissue.rectangle(1.25e-3, 1.5e-3, 150e-6)
+    squeezed = lattice * [0.7, 1.0]
+    lengths = [(np.linalg.norm(squeezed[a] - squeezed[b]), np.linalg.norm(lattice[a] - lattice[b]))
+               for a in range(len(lattice)) for b in range(a)
+               if np.linalg.norm(lattice[a] - lattice[b]) < 1.3 * 150e-6]
+    expected = np.mean([d / d0 for d, d0 in lengths])
+    slope, ratio = calibrate.centroid_distance_slope(lattice, {0.5: squeezed})
+    assert ratio[0.5] == pytest.approx(expected, rel=1e-12)
+    assert slope == pytest.approx((expected - 1) / math.log(0.5), rel=1e-12)

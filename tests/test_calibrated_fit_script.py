@@ -6,6 +6,7 @@
 is not one of the paper's four is refused in one line. cgms.calibrate itself is replaced by
 a recorder: what is checked is the script's choice of parameters, not the fit."""
 
+import math
 import sys
 
 import pytest
@@ -22,7 +23,8 @@ def calls(monkeypatch):
 
     def recorder(data, material, references, out, parameters, start=None, bounds=None,
                  **kwargs):
-        seen.append({"parameters": list(parameters), "start": dict(start or {}),
+        seen.append({"material": str(material),
+                     "parameters": list(parameters), "start": dict(start or {}),
                      "bounds": dict(bounds or {}), "levels": sorted(references)})
         values = {k: 1.0 for k in parameters}
         return {"parameters": values, "stderr": {k: 0.0 for k in parameters},
@@ -82,3 +84,37 @@ def test_k_S_fit_starts_from_the_start_materials_k_S(calls, tmp_path, monkeypatc
     calls.clear()
     assert fit.main(["--levels", "1,0.8", "--out", str(tmp_path / "b")]) == 0
     assert calls[-1]["start"]["k_S"] == 0.02
+
+
+def test_lj_slope_start_and_its_upper_bound(calls, tmp_path, monkeypatch):
+    """--lj-slope replaces the start material's lj_slope (nothing else), and --also lj_slope
+    searches it up to where the cutoff 1.35 r0 (1 + lj_slope ln s) still holds the built
+    lattice (spacing r0) at the driest level, with 1 % to spare: 1.35 (1 + limit ln 0.8)
+    = 1.01."""
+    from cgms import material
+
+    monkeypatch.chdir(ROOT)
+    assert fit.main(["--lj-slope", "0.07", "--also", "lj_slope", "--levels", "1,0.8",
+                     "--out", str(tmp_path)]) == 0
+    used = material.read(calls[0]["material"])
+    apple = material.read("apple")
+    assert used["lj_slope"] == 0.07
+    assert {k: v for k, v in used.items() if k != "lj_slope"} == \
+        {k: v for k, v in apple.items() if k != "lj_slope"}
+    limit = 0.07 * calls[0]["bounds"]["lj_slope"][1]
+    assert 1.35 * (1 + limit * math.log(0.8)) == pytest.approx(1.01, rel=1e-12)
+    assert "lj_slope" in calls[0]["parameters"] and "lj_slope" in calls[-1]["parameters"]
+
+
+def test_lj_slope_whose_cutoff_misses_the_lattice_is_refused(calls, tmp_path, monkeypatch):
+    """At s = 0.3 lj_slope 0.25 gives a cutoff of 1.35 (1 + 0.25 ln 0.3) = 0.94 r0: every
+    bead of the built lattice would start isolated; refused in one line, nothing run."""
+    monkeypatch.chdir(ROOT)
+    with pytest.raises(SystemExit) as stop:
+        fit.main(["--lj-slope", "0.25", "--levels", "1,0.8,0.6,0.4,0.3",
+                  "--out", str(tmp_path)])
+    assert "lj_slope 0.25" in str(stop.value) and "s = 0.3" in str(stop.value)
+    assert not calls
+    # 0.2 is inside (cutoff 1.025 r0): accepted
+    assert fit.main(["--lj-slope", "0.2", "--levels", "1,0.8,0.6,0.4,0.3",
+                     "--out", str(tmp_path / "b")]) == 0

@@ -26,6 +26,12 @@ Results in OUT (default results/calibration-mfc), one folder per fit:
 lines) is then held at it in the ``paper-<n>`` fits; ``--install-as NAME`` names the
 installed file (default <material>-mfc).
 
+``--lj-slope VALUE``: the start material's lj_slope replaced (a copy in OUT); ``--also
+lj_slope`` fits it. r(s) = r0 (1 + lj_slope ln s) sets the cutoff 1.35 r(s), which bounds
+how far a hexagonal tissue can shrink (the second shell must stay outside it) and must
+hold the built lattice every level starts from: lj_slope is kept below
+(1 - 1.01/1.35) / -ln(driest level) (0.209 for s = 0.3; doc/calibration.md, "Five levels").
+
 ``--hold``: parameters of the paper's four kept at the start material's value, not fitted
 (k_T and k_PA are collinear on the converged levels: only their ratio is determined, and a
 free fit drifts along that valley to a stiff material; doc/calibration.md).
@@ -36,6 +42,7 @@ saying how it was made.
 """
 
 import argparse
+import math
 import subprocess
 import sys
 from pathlib import Path
@@ -49,7 +56,32 @@ PAPER = ["k_T", "k_PA", "beta_a", "beta_b"]
 # search intervals, factors of each fit's start
 # (the first fit drives k_PA to a thousandth of apple's, so its bound starts lower)
 BOUNDS = {"k_T": (0.01, 100.0), "k_PA": (0.0005, 100.0), "beta_a": (0.85, 1.15),
-          "beta_b": (0.2, 5.0), "k_S": (0.01, 100.0), "turgid_ratio": (0.9, 1.1)}
+          "beta_b": (0.2, 5.0), "k_S": (0.01, 100.0), "turgid_ratio": (0.9, 1.1),
+          # the upper bound of lj_slope is lj_slope_limit's, whatever the start
+          "lj_slope": (0.5, None)}
+#: pair_style cgms cutoff/lj (src/CGMS/pair_cgms.cpp, CUTOFF_FACTOR): the cutoff of a pair
+#: is this times its LJ radius r(s) = r0 (1 + lj_slope ln s)
+CUTOFF_LJ = 1.35
+#: the cutoff at the driest level must reach this far beyond the built lattice's spacing:
+#: the first steps move peripheral beads outwards (measured on 105 beads at s = 0.3: a
+#: nearest neighbour 1.0004 r0 away at step 6, lost with a cutoff of 1.00002 r0)
+START_MARGIN = 1.01
+
+
+def lj_slope_limit(driest):
+    """The largest lj_slope with which a level ``driest`` can start from the built lattice:
+    every run starts at the lattice spacing r0 = x_ref, so the cutoff 1.35 r(s) must hold
+    it with START_MARGIN, 1.35 (1 + lj_slope ln s) >= 1.01; above, beads start isolated."""
+    return (1 - START_MARGIN / CUTOFF_LJ) / -math.log(driest)
+
+
+def stage_bounds(fitted, start, driest):
+    """Search intervals (factors of this stage's start) of the ``fitted`` names: BOUNDS, with
+    lj_slope's upper end at :func:`lj_slope_limit` of the driest level of the whole fit."""
+    out = {k: BOUNDS[k] for k in fitted}
+    if "lj_slope" in out:
+        out["lj_slope"] = (BOUNDS["lj_slope"][0], lj_slope_limit(driest) / start["lj_slope"])
+    return out
 
 
 def main(argv=None):
@@ -59,8 +91,9 @@ def main(argv=None):
                                   "reference/mfc/<material>-calibration (others)")
     ap.add_argument("--out", default="results/calibration-mfc")
     ap.add_argument("--levels", default="1,0.8,0.6",
-                    help="levels to fit (default 1,0.8,0.6: the MFC's 0.4 and 0.3 are far "
-                         "outside what CGMS can shrink to; doc/calibration.md)")
+                    help="levels to fit (default 1,0.8,0.6: with the paper's lj_slope the "
+                         "MFC's 0.4 and 0.3 are beyond what CGMS can shrink to; see --lj-slope "
+                         "and doc/calibration.md, \"Five levels\")")
     ap.add_argument("--also", default="",
                     help="material parameters fitted with the paper's four, comma separated "
                          "(e.g. turgid_ratio: the fresh cell's perimeter, the only thing "
@@ -68,6 +101,10 @@ def main(argv=None):
     ap.add_argument("--hold", default="",
                     help="parameters kept at the start material's value (not fitted), comma "
                          "separated, e.g. k_T")
+    ap.add_argument("--lj-slope", type=float,
+                    help="the start material's lj_slope replaced (r(s) = r0 (1 + lj_slope "
+                         "ln s), which sets the cutoff 1.35 r(s) and so how far a hexagonal "
+                         "tissue can shrink; doc/calibration.md); fitted with --also lj_slope")
     ap.add_argument("--direct", action="store_true",
                     help="one paper fit on all levels from the start material, no "
                          "continuation (for a start that is already near: the two-level "
@@ -102,7 +139,28 @@ def main(argv=None):
     target = Path(f"potentials/{args.install_as or Path(args.material).stem + '-mfc'}.cgms")
     if args.install and target.exists():
         sys.exit(f"fit.py: {target} exists; move it away first")
+    driest = min(levels)
+    lj_slope = start_material["lj_slope"] if args.lj_slope is None else args.lj_slope
+    if not 0 <= lj_slope < lj_slope_limit(driest):
+        reach = CUTOFF_LJ * (1 + lj_slope * math.log(driest))
+        sys.exit(f"fit.py: lj_slope {lj_slope:g}: at s = {driest:g} the cutoff {CUTOFF_LJ} r0 "
+                 f"(1 + lj_slope ln s) = {reach:.4g} r0 would not safely reach the start "
+                 f"lattice's neighbours (r0 apart; {START_MARGIN} r0 is the least): it must be "
+                 f"in [0, {lj_slope_limit(driest):.4g})")
+    if "lj_slope" in fitted and lj_slope == 0:
+        sys.exit("fit.py: --also lj_slope needs a start lj_slope > 0 (the search runs in "
+                 "ln(value / start)): give --lj-slope")
     out = Path(args.out)
+    if args.lj_slope is not None:   # a copy of the start material with this lj_slope
+        out.mkdir(parents=True, exist_ok=True)
+        copy = out / f"{Path(args.material).stem}-lj_slope.cgms"
+        copy.write_text("".join(
+            f"lj_slope {args.lj_slope!r} # set by fit.py --lj-slope; LJ radius r/r0 = 1 + "
+            f"lj_slope ln s\n" if line.split()[:1] == ["lj_slope"] else line
+            for line in material.find(args.material).read_text().splitlines(keepends=True)))
+        given, args.material = args.material, str(copy)
+    else:
+        given = args.material
     data = out / "tissue.data"
     if not data.exists():   # the 86-bead tissue, as `cgms calibrate` builds it for apple
         out.mkdir(parents=True, exist_ok=True)
@@ -110,18 +168,20 @@ def main(argv=None):
         x_ref = start_material["x_ref"]
         tissue.write_data(data, calibration_tissue(args.material), 3 * x_ref)
     start, levels = None, sorted(refs, reverse=True)
+    start_values = {k: material.read(args.material)[k] for k in fitted}
     for n in range(len(levels) if args.direct else 2, len(levels) + 1):
         use = {s: refs[s] for s in levels[:n]}
         result = calibrate.calibrate(data, args.material, use, out / f"paper-{n}", fitted,
                                      start=start,
-                                     bounds={k: BOUNDS[k] for k in fitted}, align_mode="rigid",
+                                     bounds=stage_bounds(fitted, start or start_values, driest),
+                                     align_mode="rigid",
                                      max_evaluations=80)
         start = dict(result["parameters"])
         report("paper", n, result)
         paper = result
     result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
                                  start=dict(start, k_S=start_material.get("k_S") or 0.02),
-                                 bounds={k: BOUNDS[k] for k in fitted + ["k_S"]},
+                                 bounds=stage_bounds(fitted + ["k_S"], start, driest),
                                  align_mode="rigid", max_evaluations=80)
     report("kS", len(refs), result)
     if args.install_fit == "paper":
@@ -130,10 +190,11 @@ def main(argv=None):
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                                 text=True).stdout.strip()
         lines = Path(result["material_file"]).read_text().splitlines()
-        made = [f"# Made by: python3 examples/calibration/fit.py --material {args.material} "
+        made = [f"# Made by: python3 examples/calibration/fit.py --material {given} "
                 f"--mfc {args.mfc} --out {args.out} --levels {args.levels}"
                 + (f" --also {args.also}" if args.also else "")
                 + (f" --hold {args.hold}" if args.hold else "")
+                + (f" --lj-slope {args.lj_slope!r}" if args.lj_slope is not None else "")
                 + f" --install --install-fit {args.install_fit} (fit "
                 + (f"'paper-{len(levels)}'" if args.install_fit == "paper" else "'kS'")
                 + f", commit {commit})",

@@ -133,6 +133,28 @@ def _check_units(ref, lattice, what):
                          "be in metres and belong to this tissue")
 
 
+def centroid_distance_slope(fresh, dried, neighbour=1.3):
+    """The paper's LJ-radius law (Table 2: r/r0 = 1 + lj_slope ln s, r the average distance
+    between cell centroids relative to fresh) measured on reference centroids.
+    ``fresh``: (n, 2) centroids at s = 1; ``dried``: {s: (n, 2)}, rows in the same order.
+    The distances are those of the fresh state's neighbour pairs (centres closer than
+    ``neighbour`` x the median nearest-neighbour distance), each relative to its fresh
+    length. Returns ``(lj_slope, {s: mean ratio})``, lj_slope the least-squares slope of
+    ratio - 1 against ln s (through s = 1, ratio 1). doc/calibration.md, "Five levels"."""
+    from scipy.spatial import cKDTree
+
+    fresh = np.asarray(fresh, float)
+    tree = cKDTree(fresh)
+    nearest = tree.query(fresh, 2)[0][:, 1]
+    i, k = tree.query_pairs(neighbour * float(np.median(nearest)), output_type="ndarray").T
+    length = np.linalg.norm(fresh[i] - fresh[k], axis=1)
+    ratio = {float(s): float(np.mean(np.linalg.norm(np.asarray(xy)[i] - np.asarray(xy)[k],
+                                                    axis=1) / length))
+             for s, xy in dried.items()}
+    ln_s = np.log(list(ratio))
+    return float(ln_s @ (np.array(list(ratio.values())) - 1) / (ln_s @ ln_s)), ratio
+
+
 # --------------------------------------------------------------------------- the fit
 
 def calibrate(data, material, references, out, parameters=("k_T", "k_PA", "beta"),
