@@ -518,3 +518,31 @@ def test_side_bow_of_a_bent_rectangle():
     outward = xy.copy()
     outward[near_left, 0] -= edge[near_left]
     assert mo.side_bow(outward, band=0.6)["left"] == pytest.approx(-0.3, abs=0.02)
+
+
+# --- pieces ----------------------------------------------------------------------------
+
+
+def test_pieces_of_an_intact_a_torn_and_a_flung_tissue():
+    """morphology.pieces (run.folded's check that a minimiser's steady state did not come
+    apart): an intact lattice is one piece; a lattice cut along a row and pulled apart by 1.6
+    spacings is two, the larger labelled 0; a bead moved 2 spacings out of a corner is a
+    piece of its own; a gap of 1.4 spacings (below the 1.5 x spacing link) still joins."""
+    xy = tissue.hex_rectangle(10, 8, A)
+    assert mo.pieces(xy).max() == 0
+    top = xy[:, 1] > 4.5 * H                      # rows 5-7 of 0-7: 30 of 80 beads
+    for gap, count in ((1.6, 2), (1.4, 1)):
+        # the closest pair across the cut is half a spacing apart in x: lift the top rows
+        # until it is ``gap`` spacings apart
+        lift = math.sqrt((gap * A) ** 2 - (A / 2) ** 2) - H
+        torn = xy + np.where(top[:, None], [0.0, lift], 0.0)
+        closest = np.min(np.hypot(*(torn[top][:, None] - torn[~top][None]).T))
+        assert closest == pytest.approx(gap * A, rel=1e-12)
+        label = mo.pieces(torn)
+        assert label.max() + 1 == count, gap
+        if count == 2:
+            assert (label[~top] == 0).all() and (label[top] == 1).all()
+    flung = xy.copy()
+    flung[0] -= [2 * A, 0.0]
+    label = mo.pieces(flung)
+    assert label.max() == 1 and label[0] == 1 and (label[1:] == 0).all()

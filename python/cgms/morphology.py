@@ -73,6 +73,24 @@ def spacing(xy):
     return float(np.median(cKDTree(p).query(p, k=2)[0][:, 1]))
 
 
+def pieces(xy, gap=MAX_EDGE_FACTOR):
+    """The beads grouped into the pieces of the tissue: an array of piece labels 0, 1, ...
+    (piece 0 the largest), two beads lying in one piece when a chain of beads links them
+    with no step longer than ``gap`` times the median nearest-neighbour distance. One
+    label for an intact tissue; a tissue torn apart, or a bead flung out, has more."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    p = _points(xy)
+    pairs = cKDTree(p).query_pairs(gap * spacing(p), output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(p),) * 2)
+    _, label = connected_components(graph, directed=False)
+    sizes = np.bincount(label)
+    rank = np.empty_like(sizes)
+    rank[np.argsort(-sizes, kind="stable")] = np.arange(len(sizes))
+    return rank[label]
+
+
 def default_max_edge(xy):
     """The default longest triangle edge: ``MAX_EDGE_FACTOR`` (1.5) times the median
     nearest-neighbour distance of the beads."""

@@ -145,17 +145,28 @@ CROWDED = 12
 
 def folded(lmp):
     """A one-line reason when the state in ``lmp`` has folded onto itself (a bead with
-    more than :data:`CROWDED` neighbours), else ``None``. The dynamics stops on such a
+    more than :data:`CROWDED` neighbours) or come apart (:func:`cgms.morphology.pieces`),
+    else ``None``. The dynamics stops on such a
     state (fix cgms/fluid's damping check); a minimiser or Newton's method does not, and
     would report a collapsed tissue as a steady state (measured: A/A0 0.13, 16-40
     neighbours per bead, with a material whose perimeter law is nearly off)."""
-    from . import fields
+    from . import fields, morphology
 
     state = fields.bead_state(lmp, ["nneigh"])
     worst = int(np.argmax(state["nneigh"]))
     count = state["nneigh"][worst]
     if count <= CROWDED:
-        return None
+        # nor may it come apart: a minimiser also ends on a tissue torn into pieces
+        # (measured: 11 pieces, A/A0 0.014, with the LJ radius law at its bound)
+        label = morphology.pieces(np.column_stack([state["x"], state["y"]]))
+        if label.max() == 0:
+            return None
+        apart = int((label > 0).sum())
+        return (f"the steady state came apart: {label.max() + 1} pieces, {apart} of "
+                f"{len(label)} beads away from the largest one (no chain of neighbours "
+                f"closer than {morphology.MAX_EDGE_FACTOR:g} x the median spacing links "
+                "them); the cutoff may have fallen below the bead spacing (lj_slope, "
+                "doc/model.md, Forces)")
     crowded = int((state["nneigh"] > CROWDED).sum())
     return (f"the steady state folded onto itself: bead {state['id'][worst]} has {count:g} "
             f"neighbours within the cutoff, where a hexagonal tissue has 6 ({crowded} of "
