@@ -158,3 +158,31 @@ def test_minimize_warns_when_it_ends_on_a_folded_tissue(tmp_path):
         seen[name] = run_lmp(folder, script).stdout
     assert "minimize ended on a tissue folded onto itself" in seen["apple-mfc"]
     assert "folded" not in seen["apple"]
+
+
+@pytest.mark.lammps
+def test_folded_refuses_a_tissue_in_pieces(tmp_path):
+    """run.folded, which a study calls on a minimiser's or Newton's steady state, names a
+    tissue that came apart (a minimiser ends on one without a word: FIRE left a 105-bead
+    tissue in 11 pieces with lj_slope at its bound). Two blocks 3 spacings apart, each a
+    sound hexagonal tissue, are refused; one block is not."""
+    from cgms import run, tissue
+    from cgmstest import MAT, ROOT, new_lammps, working_directory
+
+    block = tissue.rectangle(0.6e-3, 0.6e-3, MAT["x_ref"])
+    apart = np.vstack([block, block + [np.ptp(block[:, 0]) + 3 * MAT["x_ref"], 0.0]])
+    seen = {}
+    for name, xy in (("one", block), ("two", apart)):
+        folder = tmp_path / name
+        folder.mkdir()
+        tissue.write_data(folder / "tissue.data", xy, 3 * MAT["x_ref"])
+        lmp = new_lammps()
+        with working_directory(folder):
+            lmp.commands_string(run.tissue_script(folder / "tissue.data",
+                                                  ROOT / "potentials" / "apple.cgms", 1.0,
+                                                  method="newton"))
+        seen[name] = run.folded(lmp)
+        lmp.close()
+    assert seen["one"] is None
+    assert seen["two"].startswith(f"the steady state came apart: 2 pieces, {len(block)} of "
+                                  f"{len(apart)} beads away from the largest one"), seen["two"]
