@@ -388,7 +388,7 @@ def test_fallback_needs_a_quasistatic_method(fake, capsys):
 
 def test_levels_outside_the_materials_range_are_named_not_run(fake, capsys):
     """A calibrated material says in its header for which levels it holds ('VALID FOR
-    0.6 <= s <= 1', apple-mfc.cgms): other levels are named in one line and not run."""
+    0.6 <= s <= 1', potato-mfc.cgms): other levels are named in one line and not run."""
     limited = fake / "limited.cgms"
     limited.write_text(Path(APPLE).read_text() + "# fitted at three levels: VALID FOR\n"
                                            "# 0.6 <= s <= 1 ONLY.\n")

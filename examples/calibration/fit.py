@@ -115,7 +115,12 @@ def main(argv=None):
     ap.add_argument("--install-fit", choices=("kS", "paper"), default="kS",
                     help="which fit --install writes: kS (default) or the last paper-<n> "
                          "fit, without k_S (when k_S is not determined)")
+    ap.add_argument("--without-kS", action="store_true",
+                    help="skip the kS stage (with --install-fit paper: k_S already shown "
+                         "not to be determined, and the stage costs as much as the fit)")
     args = ap.parse_args(argv)
+    if args.without_kS and args.install_fit == "kS":
+        sys.exit("fit.py: --without-kS leaves no kS fit to install: add --install-fit paper")
     if args.mfc is None:
         args.mfc = "reference/mfc/" + ("calibration" if args.material == "apple"
                                        else f"{args.material}-calibration")
@@ -179,11 +184,12 @@ def main(argv=None):
         start = dict(result["parameters"])
         report("paper", n, result)
         paper = result
-    result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
-                                 start=dict(start, k_S=start_material.get("k_S") or 0.02),
-                                 bounds=stage_bounds(fitted + ["k_S"], start, driest),
-                                 align_mode="rigid", max_evaluations=80)
-    report("kS", len(refs), result)
+    if not args.without_kS:
+        result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
+                                     start=dict(start, k_S=start_material.get("k_S") or 0.02),
+                                     bounds=stage_bounds(fitted + ["k_S"], start, driest),
+                                     align_mode="rigid", max_evaluations=80)
+        report("kS", len(refs), result)
     if args.install_fit == "paper":
         result = paper
     if args.install:
@@ -195,7 +201,8 @@ def main(argv=None):
                 + (f" --also {args.also}" if args.also else "")
                 + (f" --hold {args.hold}" if args.hold else "")
                 + (f" --lj-slope {args.lj_slope!r}" if args.lj_slope is not None else "")
-                + f" --install --install-fit {args.install_fit} (fit "
+                + f" --install --install-fit {args.install_fit}"
+                + (" --without-kS" if args.without_kS else "") + " (fit "
                 + (f"'paper-{len(levels)}'" if args.install_fit == "paper" else "'kS'")
                 + f", commit {commit})",
                 f"# References: MFC centroids in {args.mfc} "
