@@ -118,3 +118,17 @@ def test_lj_slope_whose_cutoff_misses_the_lattice_is_refused(calls, tmp_path, mo
     # 0.2 is inside (cutoff 1.025 r0): accepted
     assert fit.main(["--lj-slope", "0.2", "--levels", "1,0.8,0.6,0.4,0.3",
                      "--out", str(tmp_path / "b")]) == 0
+
+
+def test_without_kS_skips_the_kS_stage_and_needs_the_paper_fit(calls, tmp_path, monkeypatch):
+    """--without-kS runs the paper stages only; with the default --install-fit kS it would
+    leave nothing to install: refused in one line, nothing run."""
+    monkeypatch.chdir(ROOT)
+    assert fit.main(["--levels", "1,0.8,0.6", "--direct", "--without-kS", "--install-fit",
+                     "paper", "--out", str(tmp_path)]) == 0
+    assert len(calls) == 1 and "k_S" not in calls[0]["parameters"]
+    calls.clear()
+    with pytest.raises(SystemExit) as stop:
+        fit.main(["--without-kS", "--out", str(tmp_path / "b")])
+    assert "--without-kS" in str(stop.value) and "--install-fit paper" in str(stop.value)
+    assert not calls
