@@ -48,6 +48,7 @@ import sys
 from pathlib import Path
 
 from cgms import calibrate
+from cgms.model import CUTOFF_LJ
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from potato import calibration_tissue  # noqa: E402  (the 86-cell tissue of any material)
@@ -59,9 +60,6 @@ BOUNDS = {"k_T": (0.01, 100.0), "k_PA": (0.0005, 100.0), "beta_a": (0.85, 1.15),
           "beta_b": (0.2, 5.0), "k_S": (0.01, 100.0), "turgid_ratio": (0.9, 1.1),
           # the upper bound of lj_slope is lj_slope_limit's, whatever the start
           "lj_slope": (0.5, None)}
-#: pair_style cgms cutoff/lj (src/CGMS/pair_cgms.cpp, CUTOFF_FACTOR): the cutoff of a pair
-#: is this times its LJ radius r(s) = r0 (1 + lj_slope ln s)
-CUTOFF_LJ = 1.35
 #: the cutoff at the driest level must reach this far beyond the built lattice's spacing:
 #: the first steps move peripheral beads outwards (measured on 105 beads at s = 0.3: a
 #: nearest neighbour 1.0004 r0 away at step 6, lost with a cutoff of 1.00002 r0)

@@ -46,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import fitparams, folders, material as material_mod, positions
+from . import fitparams, folders, material as material_mod, morphology, positions
 from .pool import CACHE, Runner  # noqa: F401 - CACHE: the cache file name, for callers
 from .superpose import ALIGN, align
 
@@ -144,9 +144,8 @@ def centroid_distance_slope(fresh, dried, neighbour=1.3):
     from scipy.spatial import cKDTree
 
     fresh = np.asarray(fresh, float)
-    tree = cKDTree(fresh)
-    nearest = tree.query(fresh, 2)[0][:, 1]
-    i, k = tree.query_pairs(neighbour * float(np.median(nearest)), output_type="ndarray").T
+    i, k = cKDTree(fresh).query_pairs(neighbour * morphology.spacing(fresh),
+                                      output_type="ndarray").T
     length = np.linalg.norm(fresh[i] - fresh[k], axis=1)
     ratio = {float(s): float(np.mean(np.linalg.norm(np.asarray(xy)[i] - np.asarray(xy)[k],
                                                     axis=1) / length))

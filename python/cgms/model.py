@@ -28,6 +28,11 @@ def beta(mat, s):
     return mat["beta_a"] + mat["beta_b"] * np.log(s)
 
 
+#: pair_style cgms's default cutoff/lj (src/CGMS/pair_cgms.cpp, CUTOFF_FACTOR): a pair's
+#: cutoff is this times its LJ radius
+CUTOFF_LJ = 1.35
+
+
 def lj_radius(mat, s):
     """LJ radius r(s) = r0 (1 + lj_slope ln s) of a pair of mean dryness ``s``."""
     return mat["r0"] * (1 + mat["lj_slope"] * np.log(s))
