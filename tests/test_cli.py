@@ -403,3 +403,19 @@ def test_levels_outside_the_materials_range_are_named_not_run(fake, capsys):
     assert "0.30" not in "".join(line[:30] for line in out.splitlines())
     status, err, _ = run_cli(capsys, *common, "--dryness", "0.4,0.3", "--out", "e")
     assert status == 2 and "no level to run" in err and not (fake / "e").exists()
+
+
+@pytest.mark.skipif(not (ROOT / "build" / "env.sh").exists(), reason="./cgms setup not run")
+def test_build_env_adds_to_the_users_potentials_folders_and_does_not_grow():
+    """build/env.sh puts potentials/ first in LAMMPS_POTENTIALS and keeps the user's own
+    folders after it, read when sourced (not baked in at set-up time), so sourcing it
+    twice, or a set-up run from a sourced shell, does not pile up copies."""
+    env = {k: v for k, v in os.environ.items() if k != "LAMMPS_POTENTIALS"}
+    script = f"source '{ROOT}/build/env.sh'; printf '%s\\n' \"$LAMMPS_POTENTIALS\""
+    def sourced(extra):
+        out = subprocess.run(["bash", "-c", script], env=dict(env, **extra), text=True,
+                             capture_output=True, check=True).stdout
+        return out.strip()
+    ours = str(ROOT / "potentials")
+    assert sourced({}) == ours
+    assert sourced({"LAMMPS_POTENTIALS": "/users/own"}) == f"{ours}:/users/own"
