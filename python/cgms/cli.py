@@ -140,7 +140,8 @@ def dry(out, name, t, mat_file, mat, levels, args):
     print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
     try:
         results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
-                              fallback=args.fallback, diameters=t["diameters"] is not None,
+                              fallback=args.fallback, start=args.start,
+                              diameters=t["diameters"] is not None,
                               method=args.method, overrides=args.set,
                               steady=dict(residual=args.residual, speed=args.speed,
                                           max_steps=args.max_steps))
@@ -657,6 +658,11 @@ def sweep_arguments(q):
                         "converge, follow the dynamics instead (dt = "
                         f"{study.FALLBACK['dt']:g} s; log and dump in <tissue>/"
                         f"{study.FALLBACK_FOLDER}/; the table marks those levels)")
+    q.add_argument("--start", choices=study.STARTS, default="built",
+                   help="where each level starts: the built tissue (default; the paper's "
+                        "moisture-domain approach), or the previous level's steady state, "
+                        "wettest to driest (a drying ramp: a dried level's cutoff need not "
+                        "hold the built lattice; doc/calibration.md, \"Five levels\")")
 
 
 def main_arguments(q):
