@@ -1,0 +1,143 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""Sweeps along a drying ramp (``start="previous"``, ``cgms study --start previous``): each
+level starts from the previous level's steady state, not from the built lattice."""
+
+import numpy as np
+import pytest
+
+from cgms import cli, folders, morphology, positions, study, tissue
+from cgmstest import APPLE, MAT
+
+#: apple with about apple-mfc's calibrated values (a tissue that shrinks like the MFC's) and
+#: an LJ radius law steep enough that the cutoff at s = 0.4, 1.35 (1 + 0.3 ln 0.4) x_ref =
+#: 0.979 x_ref, no longer reaches across the built lattice (doc/calibration.md, "Five
+#: levels"); the steady state at s = 0.6 (spacing about 0.77 x_ref) it still holds
+STEEP = "k_T 4e-11 k_PA 0.035 beta_a 1.04 beta_b 0.02 turgid_ratio 1.03 lj_slope 0.3"
+
+
+@pytest.fixture
+def small_tissue(tmp_path):
+    xy = tissue.rectangle(0.9e-3, 0.8e-3, MAT["x_ref"])
+    tissue.write_data(tmp_path / "tissue.data", xy, 3 * MAT["x_ref"])
+    return tmp_path / "tissue.data"
+
+
+def ramp(data, out, levels=(1.0, 0.6, 0.4), **kwargs):
+    return study.sweep(data, APPLE, out, levels=levels, progress=False, start="previous",
+                       method="quasistatic", overrides=STEEP, **kwargs)
+
+
+@pytest.mark.lammps
+def test_ramp_starts_each_level_from_the_previous_steady_state(small_tissue, tmp_path):
+    # from the built lattice s = 0.4 has no neighbours within the cutoff at step 0
+    with pytest.raises(study.LammpsError, match="no neighbour within the pair cutoff.* step 0:"):
+        study.relax(small_tissue, APPLE, 0.4, tmp_path / "built", method="quasistatic",
+                    overrides=STEEP)
+    # along the ramp it converges; levels in any order run wettest first; a trajectory
+    # frame at the start of each run shows where it started
+    out = tmp_path / "ramp"
+    results = ramp(small_tissue, out, levels=(0.4, 1.0, 0.6), dump_every=10 ** 6)
+    assert [r["dryness"] for r in results] == [1.0, 0.6, 0.4]
+    assert all(r["converged"] for r in results)
+    assert [r["start"] for r in results] == ["built", "s1", "s0.6"]
+    for before, r in zip([None] + results[:-1], results):
+        first = morphology.read_dump(f"{study.dump_file(out, r)}.traj")[0]
+        assert first["timestep"] == 0
+        if before is None:
+            continue
+        # the start is the previous level's steady state (dump: 10 significant digits) ...
+        assert np.abs(first["xy"] - before["xy"]).max() < 1e-9 * MAT["x_ref"]
+        # ... and the result moved on from it: the tissue shrinks further
+        assert np.abs(r["xy"] - before["xy"]).max() > 0.01 * MAT["x_ref"]
+    rows = study.table(results)
+    assert rows[2]["A/A0"] < rows[1]["A/A0"] < 0.7
+    # the level's record and its folder's setup say so
+    assert folders.read_json(out / "level.s0.4.json")["start"] == "s0.6"
+    assert folders.read_json(out / "sweep.json")["start"] == "previous"
+
+
+@pytest.mark.lammps
+def test_ramp_resumes_and_refuses_other_starts(small_tissue, tmp_path, monkeypatch):
+    out = tmp_path / "ramp"
+    first = ramp(small_tissue, out)
+    # a resume with the same levels reads them back and runs nothing
+    monkeypatch.setattr(study, "relax", lambda *a, **k: pytest.fail("level run again"))
+    again = ramp(small_tissue, out)
+    assert [np.array_equal(a["xy"], b["xy"]) for a, b in zip(first, again)] == [True] * 3
+    # s = 0.4 was started from s = 0.6: without 0.6 it would start from s = 1
+    with pytest.raises(folders.FolderError, match="s = 0.4 was started from s0.6.*from s1"):
+        ramp(small_tissue, out, levels=(1.0, 0.4))
+    # another start is another setup, either way
+    with pytest.raises(folders.FolderError, match="another setup.*start: 'previous' there, "
+                                                  "None now"):
+        study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.6, 0.4), progress=False,
+                    method="quasistatic", overrides=STEEP)
+    monkeypatch.undo()
+    built = tmp_path / "built"
+    study.sweep(small_tissue, APPLE, built, levels=(1.0,), progress=False,
+                method="quasistatic", overrides=STEEP)
+    with pytest.raises(folders.FolderError, match="start: None there, 'previous' now"):
+        ramp(small_tissue, built, levels=(1.0,))
+    with pytest.raises(ValueError, match="start must be one of built, previous"):
+        study.sweep(small_tissue, APPLE, tmp_path / "x", start="last")
+
+
+@pytest.mark.lammps
+def test_ramp_stops_before_starting_from_an_unconverged_level(small_tissue, tmp_path):
+    out = tmp_path / "ramp"
+    # 20 FIRE iterations do not reach the steady state at s = 1
+    with pytest.raises(study.RampError, match="s = 1 did not reach its steady state.*start "
+                                              "s = 0.6 from it"):
+        ramp(small_tissue, out, steady=dict(max_steps=20))
+    # the unconverged level is kept (its table says so); nothing started from it
+    assert folders.read_json(out / "level.s1.json")["converged"] is False
+    assert not (out / "level.s0.6.json").exists()
+    # the last level may stay unconverged: nothing starts from it
+    last = ramp(small_tissue, tmp_path / "one", levels=(1.0,), steady=dict(max_steps=20))
+    assert not last[0]["converged"]
+
+
+@pytest.mark.lammps
+def test_ramp_needs_the_dump_of_the_previous_level(small_tissue, tmp_path):
+    out = tmp_path / "ramp"
+    ramp(small_tissue, out, levels=(1.0,))
+    (out / "tissue.s1.dump").unlink()
+    with pytest.raises(study.RampError, match="tissue.s1.dump, the steady state s = 0.6 "
+                                              "starts from .* is missing"):
+        ramp(small_tissue, out, levels=(1.0, 0.6))
+
+
+@pytest.mark.lammps
+def test_default_start_is_the_built_lattice_and_not_recorded(small_tissue, tmp_path):
+    """Folders of before (no 'start' in sweep.json) resume as they were; every level of the
+    default starts from the built lattice."""
+    out = tmp_path / "built"
+    results = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.6), progress=False,
+                          method="quasistatic", dump_every=10 ** 6)
+    assert "start" not in folders.read_json(out / "sweep.json")
+    assert "start" not in folders.read_json(out / "level.s0.6.json")
+    built = positions.read_data(small_tissue)["xy"]
+    for r in results:
+        first = morphology.read_dump(f"{study.dump_file(out, r)}.traj")[0]
+        assert np.abs(first["xy"] - built).max() < 1e-9 * MAT["x_ref"]
+    explicit = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.6), progress=False,
+                           method="quasistatic", dump_every=10 ** 6, start="built")
+    assert np.array_equal(explicit[1]["xy"], results[1]["xy"])
+
+
+@pytest.mark.lammps
+def test_study_command_line_start_previous(tmp_path, capsys):
+    out = tmp_path / "cli"
+    args = ["study", "--width", "0.9", "--height", "0.8", "--set", STEEP, "--dryness",
+            "1,0.6,0.4", "--out", str(out)]
+    assert cli.main(args) == 1     # from the built lattice s = 0.4 stops at step 0
+    assert "no neighbour within the pair cutoff" in capsys.readouterr().err
+    assert cli.main(args + ["--start", "previous", "--resume"]) == 1
+    assert "start: None there, 'previous' now" in capsys.readouterr().err
+    ramped = tmp_path / "ramped"
+    args[-1] = str(ramped)
+    assert cli.main(args + ["--start", "previous"]) == 0
+    table = capsys.readouterr().out
+    assert table.count(" yes") == 3 and "0.40" in table
