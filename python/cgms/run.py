@@ -115,6 +115,15 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         "thermo_modify norm no flush yes",
         f"thermo {st['every'] * 10}",
     ]
+    if start_dump and method == "dynamics":
+        # the fluid as a built-lattice start has it: P = -Pi (density s rho0) in every
+        # cell, now at the cells of the start (balance yes over a run 0, then the fix as
+        # asked). The fluid mass s m_f0 of the reference cell would crowd into the start's
+        # smaller cells: 7e3 x |Pi| at s = 0.4 from 0.6's steady state, and peripheral
+        # beads thrown out of their neighbours' cutoff
+        lines += [f"fix fluid all cgms/fluid dryness {dryness} {fix_args} balance yes",
+                  "run 0",
+                  f"fix fluid all cgms/fluid dryness {dryness} {fix_args}"]
     if dump and dump_every:
         lines += [f"dump traj all custom {dump_every} {dump}.traj {columns}",
                   f"dump_modify traj sort id {names}"]
