@@ -141,3 +141,22 @@ def test_study_command_line_start_previous(tmp_path, capsys):
     assert cli.main(args + ["--start", "previous"]) == 0
     table = capsys.readouterr().out
     assert table.count(" yes") == 3 and "0.40" in table
+
+
+@pytest.mark.lammps
+def test_dynamics_ramp_starts_with_the_fluid_in_osmotic_balance(small_tissue, tmp_path):
+    """From the built lattice every bead starts at its reference density s rho0, i.e.
+    P = s P_f = -s Pi_f: no water moves at step 0. A ramp's start must be the same, in the
+    smaller cells it starts from (else the reference cell's water, crowded into them, starts
+    at thousands of times |Pi|)."""
+    out = tmp_path / "ramp"
+    results = study.sweep(small_tissue, APPLE, out, levels=(1.0, 0.6), progress=False,
+                          start="previous", method="dynamics", overrides=STEEP,
+                          dump_every=10 ** 6)
+    assert all(r["converged"] for r in results)
+    first = morphology.read_dump(f"{study.dump_file(out, results[1])}.traj",
+                                 columns="pressure")[0]
+    osmotic = 0.6 * -MAT["Pi_f"]
+    assert np.allclose(first["columns"]["pressure"], osmotic, rtol=1e-9, atol=0)
+    # and it started from s = 1's steady state, not the built lattice
+    assert np.abs(first["xy"] - results[0]["xy"]).max() < 1e-9 * MAT["x_ref"]
