@@ -160,3 +160,40 @@ def test_dynamics_ramp_starts_with_the_fluid_in_osmotic_balance(small_tissue, tm
     assert np.allclose(first["columns"]["pressure"], osmotic, rtol=1e-9, atol=0)
     # and it started from s = 1's steady state, not the built lattice
     assert np.abs(first["xy"] - results[0]["xy"]).max() < 1e-9 * MAT["x_ref"]
+
+
+@pytest.mark.lammps
+def test_calibration_runner_ramp_matches_the_study_ramp(small_tissue, tmp_path):
+    """cgms.pool's ramp (fit.py --start previous): the levels of one parameter vector in
+    sequence, each from the previous one's steady state; the same states as the study's."""
+    from cgms import calibrate, pool
+    levels = (1.0, 0.6, 0.4)
+    swept = ramp(small_tissue, tmp_path / "study", levels=levels)
+    (tmp_path / "fit").mkdir()
+    (tmp_path / "built").mkdir()
+    runner = pool.Runner(tmp_path / "fit", small_tissue, APPLE, "", 1, lambda line: None,
+                         ramp=(0.4, 1.0, 0.6))
+    try:
+        records = runner.get([(s, STEEP) for s in (0.4, 1.0, 0.6)])
+    finally:
+        runner.close()
+    assert [r["level"] for r in records] == [0.4, 1.0, 0.6]
+    assert not any("error" in r for r in records), records
+    for r in records:
+        study_xy = next(q["xy"] for q in swept if q["dryness"] == r["level"])
+        assert np.abs(np.array(r["xy"]) - study_xy).max() < 1e-12 * MAT["x_ref"] + 1e-15
+    assert folders.read_json(tmp_path / "fit" / pool.SETUP)["ramp"] == [1.0, 0.6, 0.4]
+    # without the ramp s = 0.4 has no steady state (every bead isolated at step 0)
+    built = pool.Runner(tmp_path / "built", small_tissue, APPLE, "", 1, lambda line: None)
+    try:
+        rec = built.get([(0.4, STEEP)])[0]
+    finally:
+        built.close()
+    assert "no neighbour within the pair cutoff" in rec["error"]
+    refs = {}
+    for q in swept[:2]:
+        refs[q["dryness"]] = tmp_path / f"ref.{study.level_name(q['dryness'])}.txt"
+        positions.write_centroids(refs[q["dryness"]], q["xy"])
+    with pytest.raises(ValueError, match="not beta per level"):
+        calibrate.calibrate(small_tissue, APPLE, refs, tmp_path / "c", parameters=["beta@*"],
+                            level_start="previous")
