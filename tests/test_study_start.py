@@ -197,3 +197,36 @@ def test_calibration_runner_ramp_matches_the_study_ramp(small_tissue, tmp_path):
     with pytest.raises(ValueError, match="not beta per level"):
         calibrate.calibrate(small_tissue, APPLE, refs, tmp_path / "c", parameters=["beta@*"],
                             level_start="previous")
+
+
+def test_fit_script_passes_the_ramp_and_lifts_the_lj_slope_bound(tmp_path, monkeypatch):
+    """examples/calibration/fit.py --start previous: every fit is asked for a ramp, and
+    lj_slope may go where the LJ radius at the driest level is half of r0, (1 - 0.5) /
+    -ln 0.3 = 0.4153, instead of where the cutoff still holds the built lattice, (1 -
+    1.01/1.35) / -ln 0.3 = 0.2092. cgms.calibrate is replaced by a recorder."""
+    import math
+    import sys
+    from cgmstest import ROOT
+    sys.path.insert(0, str(ROOT / "examples" / "calibration"))
+    import fit
+    seen = []
+
+    def recorder(data, material, references, out, parameters, start=None, bounds=None,
+                 **kwargs):
+        seen.append(dict(kwargs, bounds=bounds))
+        return {"parameters": {k: 1.0 for k in parameters}, "stderr": {k: 0.0 for k in
+                parameters}, "rmsd": {s: 0.0 for s in references}, "seconds": 0.0,
+                "on_bound": [], "correlation": [[0.0] * len(parameters)] * len(parameters),
+                "material_file": None}
+
+    monkeypatch.setattr(fit.calibrate, "calibrate", recorder)
+    monkeypatch.chdir(ROOT)
+    args = ["--levels", "1,0.8,0.6,0.4,0.3", "--also", "lj_slope", "--lj-slope", "0.3",
+            "--direct", "--without-kS", "--install-fit", "paper", "--out", str(tmp_path)]
+    with pytest.raises(SystemExit, match="lj_slope 0.3: .* must be in \\[0, 0.2092\\)"):
+        fit.main(args)
+    assert fit.main(args + ["--start", "previous"]) == 0
+    assert seen[0]["level_start"] == "previous"
+    lo, hi = seen[0]["bounds"]["lj_slope"]
+    assert hi * 0.3 == pytest.approx(0.5 / -math.log(0.3), rel=1e-12)
+    assert 0.5 / -math.log(0.3) > 0.375 > (1 - 1.01 / 1.35) / -math.log(0.3)
