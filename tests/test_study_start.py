@@ -133,7 +133,10 @@ def test_study_command_line_start_previous(tmp_path, capsys):
     args = ["study", "--width", "0.9", "--height", "0.8", "--set", STEEP, "--dryness",
             "1,0.6,0.4", "--out", str(out)]
     assert cli.main(args) == 1     # from the built lattice s = 0.4 stops at step 0
-    assert "no neighbour within the pair cutoff" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "no neighbour within the pair cutoff" in err
+    assert "(--start previous starts each level from the previous" in err
+    assert "--fallback dynamics retries" not in err   # the dynamics stops there too
     assert cli.main(args + ["--start", "previous", "--resume"]) == 1
     assert "start: None there, 'previous' now" in capsys.readouterr().err
     ramped = tmp_path / "ramped"
