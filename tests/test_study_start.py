@@ -100,7 +100,15 @@ def test_ramp_stops_before_starting_from_an_unconverged_level(small_tissue, tmp_
 
 
 @pytest.mark.lammps
-def test_ramp_needs_the_dump_of_the_previous_level(small_tissue, tmp_path):
+def test_ramp_needs_the_dump_of_the_previous_level(small_tissue, tmp_path, monkeypatch):
+    # ... to run a level, not to read finished ones back
+    whole = tmp_path / "whole"
+    first = ramp(small_tissue, whole, levels=(1.0, 0.6))
+    (whole / "tissue.s1.dump").unlink()
+    with monkeypatch.context() as m:
+        m.setattr(study, "relax", lambda *a, **k: pytest.fail("level run again"))
+        again = ramp(small_tissue, whole, levels=(1.0, 0.6))
+    assert np.array_equal(again[1]["xy"], first[1]["xy"])
     out = tmp_path / "ramp"
     ramp(small_tissue, out, levels=(1.0,))
     (out / "tissue.s1.dump").unlink()

@@ -71,7 +71,8 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     ``overrides``: "name value ..." material parameters that replace the file's.
     ``start_dump``: ``(dump, timestep)``, a snapshot of this tissue (every atom id of the data
     file) whose positions replace the data file's before the run (``read_dump``); the
-    fluid state is still the one ``dryness`` sets.
+    fluid starts at P = -Pi of ``dryness`` in the cells of the start, as it does in the
+    built lattice (the dynamics: by a ``run 0`` with ``balance yes``).
 
     ``method="quasistatic"`` solves for the steady state directly (doc/model.md): every bead
     holds P = -Pi (fix cgms/fluid's ``minimize balance``) and FIRE minimisation moves the

@@ -154,7 +154,7 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, star
     fallback solved has its log and dump in ``out/dynamics`` (:func:`dump_file`).
     ``start="previous"``: a drying ramp. The levels run from the wettest to the driest, the
     first from the built tissue, every other from the previous level's steady state (its
-    dump; the fluid state is the one its own s sets, as from the built tissue): a dried
+    dump; the fluid at P = -Pi of its own s, as from the built tissue): a dried
     level's cutoff then need not reach across the built lattice (doc/calibration.md,
     "Five levels"). Each result records where it started (``start``: "built" or the
     level's name); a level that did not converge stops the ramp (:class:`RampError`)
@@ -184,8 +184,7 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, star
         done = out / f"level.{level_name(s)}.json"
         positions = out / f"level.{level_name(s)}.npy"
         options = dict(kwargs)
-        if start == "previous":
-            origin, options["start_dump"] = _ramp_start(out, s, results)
+        origin = level_name(results[-1]["dryness"]) if results else "built"
         if done.exists():
             result = folders.read_json(done)
             result["xy"] = folders.read_npy(positions)
@@ -195,6 +194,8 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, star
                     f"levels it starts from {origin}; resume with the levels of the first "
                     "run or choose another --out")
         else:
+            if start == "previous":
+                options["start_dump"] = _ramp_dump(out, s, results)
             if fallback:
                 begun = time.perf_counter()
                 result, note = relax_or_fallback(data, material, s, out, **options)
@@ -212,14 +213,13 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, star
     return results
 
 
-def _ramp_start(out, s, done):
-    """``(origin, dump)`` for level ``s`` of a ramp after the levels ``done``: ("built",
-    None) for the first, else the previous level's name and final dump. RampError when that
+def _ramp_dump(out, s, done):
+    """The dump level ``s`` of a ramp starts from after the levels ``done``: None (the
+    built tissue) for the first, else the previous level's final dump. RampError when that
     level did not converge or its dump is gone."""
     if not done:
-        return "built", None
+        return None
     before = done[-1]
-    name = level_name(before["dryness"])
     if not before["converged"]:
         raise RampError(
             f"s = {before['dryness']:g} did not reach its steady state, and a ramp (start "
@@ -229,7 +229,7 @@ def _ramp_start(out, s, done):
     if not dump.exists():
         raise RampError(f"{dump}, the steady state s = {s:g} starts from (start previous), "
                         "is missing: a ramp needs the dumps of its finished levels")
-    return name, dump
+    return dump
 
 
 def dump_file(folder, result):
