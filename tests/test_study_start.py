@@ -241,3 +241,15 @@ def test_fit_script_passes_the_ramp_and_lifts_the_lj_slope_bound(tmp_path, monke
     lo, hi = seen[0]["bounds"]["lj_slope"]
     assert hi * 0.3 == pytest.approx(0.5 / -math.log(0.3), rel=1e-12)
     assert 0.5 / -math.log(0.3) > 0.375 > (1 - 1.01 / 1.35) / -math.log(0.3)
+
+
+@pytest.mark.lammps
+def test_newton_and_fire_ramps_land_on_the_same_states(small_tissue, tmp_path):
+    """Two solvers of the same steady-state equations along the same ramp (measured: 1e-7
+    x_ref apart at s = 0.6 and 0.4, 2e-6 at s = 1, FIRE's noise)."""
+    fire = ramp(small_tissue, tmp_path / "fire")
+    newton = study.sweep(small_tissue, APPLE, tmp_path / "newton", levels=(1.0, 0.6, 0.4),
+                         progress=False, start="previous", method="newton", overrides=STEEP)
+    assert all(r["converged"] for r in newton)
+    apart = [np.abs(a["xy"] - b["xy"]).max() / MAT["x_ref"] for a, b in zip(fire, newton)]
+    assert max(apart) < 1e-5, apart
