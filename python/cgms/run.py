@@ -120,7 +120,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         # the fluid as a built-lattice start has it: P = -Pi (density s rho0) in every
         # cell, now at the cells of the start (balance yes over a run 0, then the fix as
         # asked). The fluid mass s m_f0 of the reference cell would crowd into the start's
-        # smaller cells: 7e3 x |Pi| at s = 0.4 from 0.6's steady state, and peripheral
+        # smaller cells: 1e9 Pa at s = 0.4 from 0.6's steady state, and peripheral
         # beads thrown out of their neighbours' cutoff
         lines += [f"fix fluid all cgms/fluid dryness {dryness} {fix_args} balance yes",
                   "run 0",
