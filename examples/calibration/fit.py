@@ -31,6 +31,10 @@ lj_slope`` fits it. r(s) = r0 (1 + lj_slope ln s) sets the cutoff 1.35 r(s), whi
 how far a hexagonal tissue can shrink (the second shell must stay outside it) and must
 hold the built lattice every level starts from: lj_slope is kept below
 (1 - 1.01/1.35) / -ln(driest level) (0.209 for s = 0.3; doc/calibration.md, "Five levels").
+``--start previous`` runs each level from the previous level's steady state (a drying ramp,
+as ``cgms study --start previous``; the levels of one parameter vector in sequence in one
+worker): the built lattice then bounds nothing, and lj_slope's upper end is where the LJ
+radius at the driest level is half of r0 (0.415 for s = 0.3; "A drying ramp").
 
 ``--hold``: parameters of the paper's four kept at the start material's value, not fitted
 (k_T and k_PA are collinear on the converged levels: only their ratio is determined, and a
@@ -64,21 +68,29 @@ BOUNDS = {"k_T": (0.01, 100.0), "k_PA": (0.0005, 100.0), "beta_a": (0.85, 1.15),
 #: the first steps move peripheral beads outwards (measured on 105 beads at s = 0.3: a
 #: nearest neighbour 1.0004 r0 away at step 6, lost with a cutoff of 1.00002 r0)
 START_MARGIN = 1.01
+#: along a ramp (--start previous) the cutoff need not reach across the built lattice; the
+#: upper end of lj_slope then keeps the LJ radius at the driest level at least this
+#: fraction of r0 (0.415 at s = 0.3: beyond the MFC's own centroid-distance value, 0.375)
+RAMP_RADIUS = 0.5
 
 
-def lj_slope_limit(driest):
+def lj_slope_limit(driest, start="built"):
     """The largest lj_slope with which a level ``driest`` can start from the built lattice:
     every run starts at the lattice spacing r0 = x_ref, so the cutoff 1.35 r(s) must hold
-    it with START_MARGIN, 1.35 (1 + lj_slope ln s) >= 1.01; above, beads start isolated."""
+    it with START_MARGIN, 1.35 (1 + lj_slope ln s) >= 1.01; above, beads start isolated.
+    Along a ramp (``start="previous"``): r(s) >= RAMP_RADIUS r0."""
+    if start == "previous":
+        return (1 - RAMP_RADIUS) / -math.log(driest)
     return (1 - START_MARGIN / CUTOFF_LJ) / -math.log(driest)
 
 
-def stage_bounds(fitted, start, driest):
+def stage_bounds(fitted, start, driest, level_start="built"):
     """Search intervals (factors of this stage's start) of the ``fitted`` names: BOUNDS, with
     lj_slope's upper end at :func:`lj_slope_limit` of the driest level of the whole fit."""
     out = {k: BOUNDS[k] for k in fitted}
     if "lj_slope" in out:
-        out["lj_slope"] = (BOUNDS["lj_slope"][0], lj_slope_limit(driest) / start["lj_slope"])
+        out["lj_slope"] = (BOUNDS["lj_slope"][0],
+                           lj_slope_limit(driest, level_start) / start["lj_slope"])
     return out
 
 
@@ -107,6 +119,11 @@ def main(argv=None):
                     help="one paper fit on all levels from the start material, no "
                          "continuation (for a start that is already near: the two-level "
                          "fit alone can drift to values with no steady state at s = 0.6)")
+    ap.add_argument("--start", choices=("built", "previous"), default="built",
+                    help="where each level's steady state starts: the built tissue "
+                         "(default), or the previous level's steady state (a drying ramp, "
+                         "as cgms study --start previous; lifts lj_slope's upper end: "
+                         "doc/calibration.md, \"A drying ramp\")")
     ap.add_argument("--install", action="store_true")
     ap.add_argument("--install-as", help="name of the installed material file in potentials/ "
                                          "(default <material>-mfc)")
@@ -144,7 +161,12 @@ def main(argv=None):
         sys.exit(f"fit.py: {target} exists; move it away first")
     driest = min(levels)
     lj_slope = start_material["lj_slope"] if args.lj_slope is None else args.lj_slope
-    if not 0 <= lj_slope < lj_slope_limit(driest):
+    if args.start == "previous":
+        if not 0 <= lj_slope < lj_slope_limit(driest, "previous"):
+            sys.exit(f"fit.py: lj_slope {lj_slope:g}: along a ramp it must be in [0, "
+                     f"{lj_slope_limit(driest, 'previous'):.4g}) (the LJ radius at s = "
+                     f"{driest:g} at least {RAMP_RADIUS} r0)")
+    elif not 0 <= lj_slope < lj_slope_limit(driest):
         reach = CUTOFF_LJ * (1 + lj_slope * math.log(driest))
         sys.exit(f"fit.py: lj_slope {lj_slope:g}: at s = {driest:g} the cutoff {CUTOFF_LJ} r0 "
                  f"(1 + lj_slope ln s) = {reach:.4g} r0 would not safely reach the start "
@@ -176,8 +198,9 @@ def main(argv=None):
         use = {s: refs[s] for s in levels[:n]}
         result = calibrate.calibrate(data, args.material, use, out / f"paper-{n}", fitted,
                                      start=start,
-                                     bounds=stage_bounds(fitted, start or start_values, driest),
-                                     align_mode="rigid",
+                                     bounds=stage_bounds(fitted, start or start_values, driest,
+                                                         args.start),
+                                     align_mode="rigid", level_start=args.start,
                                      max_evaluations=80)
         start = dict(result["parameters"])
         report("paper", n, result)
@@ -185,8 +208,10 @@ def main(argv=None):
     if not args.without_kS:
         result = calibrate.calibrate(data, args.material, refs, out / "kS", fitted + ["k_S"],
                                      start=dict(start, k_S=start_material.get("k_S") or 0.02),
-                                     bounds=stage_bounds(fitted + ["k_S"], start, driest),
-                                     align_mode="rigid", max_evaluations=80)
+                                     bounds=stage_bounds(fitted + ["k_S"], start, driest,
+                                                         args.start),
+                                     align_mode="rigid", level_start=args.start,
+                                     max_evaluations=80)
         report("kS", len(refs), result)
     if args.install_fit == "paper":
         result = paper
@@ -199,6 +224,7 @@ def main(argv=None):
                 + (f" --also {args.also}" if args.also else "")
                 + (f" --hold {args.hold}" if args.hold else "")
                 + (f" --lj-slope {args.lj_slope!r}" if args.lj_slope is not None else "")
+                + (f" --start {args.start}" if args.start != "built" else "")
                 + f" --install --install-fit {args.install_fit}"
                 + (" --without-kS" if args.without_kS else "") + " (fit "
                 + (f"'paper-{len(levels)}'" if args.install_fit == "paper" else "'kS'")

@@ -159,7 +159,8 @@ def centroid_distance_slope(fresh, dried, neighbour=1.3):
 def calibrate(data, material, references, out, parameters=("k_T", "k_PA", "beta"),
               start=None, bounds=None, align_mode="translation", workers=2,
               max_evaluations=60, xtol=1e-4, ftol=1e-10, gtol=1e-10, fd_step=FD_STEP,
-              pair_args="", material_out=None, overwrite=False, progress=True):
+              pair_args="", material_out=None, overwrite=False, progress=True,
+              level_start="built"):
     """Fit ``parameters`` so that the steady states of the tissue in ``data`` match the
     ``references`` ({dryness: source}, see :func:`load_references`) by eqn (2).
 
@@ -172,7 +173,9 @@ def calibrate(data, material, references, out, parameters=("k_T", "k_PA", "beta"
     ``workers``: processes for independent steady states (at most the CPU count).
     ``max_evaluations``: limit on the minimiser's residual evaluations (parameter vectors,
     Jacobian points not counted). ``progress``: print a line per evaluation (or a callable
-    taking the line).
+    taking the line). ``level_start``: "built" (every level from the built tissue) or
+    "previous" (a drying ramp, :func:`cgms.study.sweep`; the levels of a parameter vector
+    then run in sequence in one worker).
 
     Returns a dict: ``parameters`` {name: value}, ``factors`` (fitted / start), ``start``,
     ``rmsd`` and ``rmsd_start`` {level: metres}, ``rmsd_x_ref`` {level: RMSD / x_ref},
@@ -198,6 +201,11 @@ def calibrate(data, material, references, out, parameters=("k_T", "k_PA", "beta"
         _check_units(q, lattice, f"the reference for s = {s:g}")
     levels = list(refs)
     params = fitparams.parse_parameters(parameters, mat, levels, start, bounds)
+    if level_start not in ("built", "previous"):
+        raise ValueError(f"level_start must be built or previous, not {level_start!r}")
+    if level_start == "previous" and any(p.kind == "beta_level" for p in params):
+        raise ValueError("a ramp (level_start previous) runs one parameter vector through "
+                         "every level: fit beta_a and beta_b, not beta per level")
     workers = max(1, min(int(workers), os.cpu_count() or 1))
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -211,7 +219,8 @@ def calibrate(data, material, references, out, parameters=("k_T", "k_PA", "beta"
         raise FileExistsError(f"{material_out} exists; choose another material file or allow "
                               "overwriting")
     x_ref, n = mat["x_ref"], len(lattice)
-    runner = Runner(out, data, mat_file, pair_args, workers, say)
+    runner = Runner(out, data, mat_file, pair_args, workers, say,
+                    ramp=levels if level_start == "previous" else None)
     lo = np.log([p.lo for p in params])
     hi = np.log([p.hi for p in params])
     trace = []

@@ -15,6 +15,7 @@ created, and turns every error into one line on stderr; no library module import
 import argparse
 import math
 import os
+import re
 import sys
 from contextlib import contextmanager
 from datetime import datetime
@@ -131,6 +132,10 @@ def material_of(args):
 
 # --------------------------------------------------------------------------- main, study
 
+#: fix cgms/fluid's stop when the built lattice is beyond a level's cutoff
+ISOLATED_AT_START = re.compile(r"no neighbour within the pair cutoff .* at step 0:")
+
+
 def dry(out, name, t, mat_file, mat, levels, args):
     """One tissue through every level: the table and the curves."""
     folder = out / name
@@ -140,16 +145,21 @@ def dry(out, name, t, mat_file, mat, levels, args):
     print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
     try:
         results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
-                              fallback=args.fallback, diameters=t["diameters"] is not None,
+                              fallback=args.fallback, start=args.start,
+                              diameters=t["diameters"] is not None,
                               method=args.method, overrides=args.set,
                               steady=dict(residual=args.residual, speed=args.speed,
                                           max_steps=args.max_steps))
     except study.LammpsError as err:
-        if args.fallback or args.method == "dynamics":
+        if args.start == "built" and ISOLATED_AT_START.search(err.reason):
+            hint = ("--start previous starts each level from the previous level's steady "
+                    "state")   # the dynamics would stop there too
+        elif args.fallback or args.method == "dynamics":
             raise
-        raise study.LammpsError(err.dryness, f"{err.reason} (--fallback dynamics retries a "
-                                "level the quasi-static solve stops with the dynamics)",
-                                err.log) from err
+        else:
+            hint = ("--fallback dynamics retries a level the quasi-static solve stops with "
+                    "the dynamics")
+        raise study.LammpsError(err.dryness, f"{err.reason} ({hint})", err.log) from err
     rows = study.table(results)
     for r in rows:
         r["tissue"] = name
@@ -657,6 +667,11 @@ def sweep_arguments(q):
                         "converge, follow the dynamics instead (dt = "
                         f"{study.FALLBACK['dt']:g} s; log and dump in <tissue>/"
                         f"{study.FALLBACK_FOLDER}/; the table marks those levels)")
+    q.add_argument("--start", choices=study.STARTS, default="built",
+                   help="where each level starts: the built tissue (default; the paper's "
+                        "moisture-domain approach), or the previous level's steady state, "
+                        "wettest to driest (a drying ramp: a dried level's cutoff need not "
+                        "hold the built lattice; doc/calibration.md, \"Five levels\")")
 
 
 def main_arguments(q):

@@ -2,8 +2,10 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Steady states for a calibration, run in parallel and cached: each parameter vector and
-level is one :func:`cgms.study.relax_or_fallback` in a worker process; every record is
-appended to ``<out>/evaluations.jsonl`` so that a rerun in the same folder reads it back."""
+level is one :func:`cgms.study.relax_or_fallback` in a worker process (along a drying ramp,
+``level_start="previous"``: all levels of a parameter vector in one worker, each from the
+previous level's steady state); every record is appended to ``<out>/evaluations.jsonl`` so
+that a rerun in the same folder reads it back."""
 
 import hashlib
 import json
@@ -18,26 +20,49 @@ CACHE = "evaluations.jsonl"
 SETUP = "setup.json"
 
 
-def run_level(job):
-    """One steady state (runs in a worker process): :func:`cgms.study.relax_or_fallback`.
-    Returns a JSON-able record (``error``: LAMMPS's message where no steady state was
-    found; ``note``: why the fallback ran)."""
+def run_level(job, start_dump=None):
+    """One steady state (runs in a worker process): :func:`cgms.study.relax_or_fallback`,
+    from the built tissue or from ``start_dump``. Returns a JSON-able record (``error``:
+    LAMMPS's message where no steady state was found; ``note``: why the fallback ran) and
+    the final dump (None without a steady state)."""
     t0 = time.perf_counter()
     rec = dict(level=job["level"], overrides=job["overrides"], folder=job["folder"])
+    dump = None
     try:
         result, note = study.relax_or_fallback(
             job["data"], job["material"], job["level"], job["folder"],
             overrides=job["overrides"], pair_args=job["pair_args"],
-            diameters=job.get("diameters", False))
+            diameters=job.get("diameters", False), start_dump=start_dump)
         if note:
             rec["note"] = note
         rec.update(method=result["method"], converged=bool(result["converged"]),
                    steps=int(result["steps"]), moisture=float(result["moisture"]),
                    residual=float(result["residual"]), xy=result["xy"].tolist())
+        dump = study.dump_file(job["folder"], dict(result, fallback=note))
     except study.LammpsError as err:
         rec["error"] = err.reason
     rec["seconds"] = time.perf_counter() - t0
-    return rec
+    return rec, dump
+
+
+def run_ramp(job):
+    """The steady states of one parameter vector at ``job["levels"]`` (wettest first), each
+    level from the previous level's steady state (:func:`cgms.study.sweep`'s start
+    previous). A level after one without a converged steady state gets an ``error``."""
+    records, dump = [], None
+    for k, s in enumerate(job["levels"]):
+        one = dict(job, level=s)
+        if k and dump is None:
+            before = job["levels"][k - 1]
+            records.append(dict(level=s, overrides=job["overrides"], folder=job["folder"],
+                                error=f"no converged steady state at s = {before:g} to start "
+                                      "from (start previous)"))
+            continue
+        rec, dump = run_level(one, start_dump=dump)
+        if not rec.get("converged"):
+            dump = None
+        records.append(rec)
+    return records
 
 
 def serve():
@@ -50,10 +75,11 @@ def serve():
         for line in sys.stdin:
             job = json.loads(line)
             try:
-                rec = run_level(job)
+                rec = run_ramp(job) if "levels" in job else run_level(job)[0]
             except Exception as err:  # noqa: BLE001 - reported, the fit goes on
-                rec = dict(level=job["level"], overrides=job["overrides"],
-                           folder=job["folder"], error=f"{type(err).__name__}: {err}")
+                rec = [dict(level=s, overrides=job["overrides"], folder=job["folder"],
+                            error=f"{type(err).__name__}: {err}")
+                       for s in job.get("levels", [job.get("level")])]
             answer.write(json.dumps(rec) + "\n")
             answer.flush()
     except (KeyboardInterrupt, BrokenPipeError):   # Ctrl-C reaches the workers too
@@ -102,17 +128,19 @@ class Workers:
             line = ""
         if not line:
             code = proc.wait()
-            return dict(level=job["level"], overrides=job["overrides"], folder=job["folder"],
-                        error=f"worker process died (exit status {code})")
+            return [dict(level=s, overrides=job["overrides"], folder=job["folder"],
+                         error=f"worker process died (exit status {code})")
+                    for s in job.get("levels", [job.get("level")])]
         return json.loads(line)
 
     def run(self, jobs):
-        """Records of ``jobs``, yielded as they finish."""
+        """Records of ``jobs``, yielded as they finish (a ramp job's one by one)."""
         from concurrent.futures import as_completed
         futures = [self.threads.submit(self._one, job) for job in jobs]
         try:
             for fut in as_completed(futures):
-                yield fut.result()
+                got = fut.result()
+                yield from (got if isinstance(got, list) else [got])
         finally:
             for fut in futures:
                 fut.cancel()
@@ -139,7 +167,10 @@ class Runner:
     """Steady states for parameter vectors: from the cache, or run (in parallel) and
     appended to it."""
 
-    def __init__(self, out, data, material, pair_args, workers, say):
+    def __init__(self, out, data, material, pair_args, workers, say, ramp=None):
+        """``ramp``: the levels (any order) of a drying ramp, each run from the previous
+        level's steady state (:func:`run_ramp`); None: every level from the built tissue."""
+        self.ramp = sorted(ramp, reverse=True) if ramp else None
         self.out, self.data, self.material = Path(out), str(data), str(material)
         self.pair_args, self.workers, self.say = pair_args, max(1, int(workers)), say
         # a data file with a Diameters section (heterogeneous tissue) is read with it
@@ -151,6 +182,8 @@ class Runner:
         self.failed, self.fallbacks = set(), set()
         setup = dict(data_sha256=study.sha256(data), material_sha256=study.sha256(material),
                      pair_args=pair_args, fallback=study.FALLBACK)
+        if self.ramp:   # only then: folders of before read the same
+            setup["ramp"] = self.ramp
         folders.same_setup(self.out / SETUP, setup)
         if self.cache_path.exists():
             bad = 0
@@ -183,6 +216,8 @@ class Runner:
                                       overrides=key[1], folder=self.folder(key[1]),
                                       pair_args=self.pair_args, diameters=self.diameters))
         self.used.update(jobs)
+        if todo and self.ramp:
+            todo = self._ramps(todo)
         if todo:
             if self.pool is None:
                 self.pool = Workers(self.workers)
@@ -201,6 +236,16 @@ class Runner:
                 self.fallbacks.add(key)
             out.append(rec)
         return out
+
+    def _ramps(self, todo):
+        """One job per parameter vector of ``todo``: its whole ramp (every level is run
+        again, so each starts from the previous one's dump of this run)."""
+        ramps = {}
+        for (s, over), job in todo.items():
+            if s not in self.ramp:
+                raise ValueError(f"s = {s:g} is not a level of this ramp ({self.ramp})")
+            ramps.setdefault(over, dict(job, levels=self.ramp)).pop("level", None)
+        return {over: job for over, job in ramps.items()}
 
     @property
     def reused(self):

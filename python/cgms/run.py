@@ -60,7 +60,7 @@ def dump_columns():
 
 def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, steady=None,
                   pair_args="", fix_args="", diameters=False, method="dynamics", ftol=1e-13,
-                  overrides=""):
+                  overrides="", start_dump=None):
     """LAMMPS commands that read a tissue and relax it to steady state at ``dryness``.
 
     The run stops when the pressure residual and the largest bead speed are both below
@@ -69,6 +69,10 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     ``dump_every``, a trajectory ``<dump>.traj``). ``diameters``: the data file has a
     ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter.
     ``overrides``: "name value ..." material parameters that replace the file's.
+    ``start_dump``: ``(dump, timestep)``, a snapshot of this tissue (every atom id of the data
+    file) whose positions replace the data file's before the run (``read_dump``); the
+    fluid starts at P = -Pi of ``dryness`` in the cells of the start, as it does in the
+    built lattice (the dynamics: by a ``run 0`` with ``balance yes``).
 
     ``method="quasistatic"`` solves for the steady state directly (doc/model.md): every bead
     holds P = -Pi (fix cgms/fluid's ``minimize balance``) and FIRE minimisation moves the
@@ -93,6 +97,10 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         fix_args = f"diameter v_diameter {fix_args}"
     else:
         lines += [f"read_data {data}"]
+    if start_dump:
+        # positions only (velocities stay zero, the fluid state is initialised from
+        # dryness); read_dump re-fits the shrink-wrapped box around them
+        lines += [f"read_dump {start_dump[0]} {start_dump[1]} x y box no timestep no"]
     lines += [
         "neighbor 1.5e-5 bin",
         "neigh_modify every 1 delay 0 check yes",
@@ -108,6 +116,15 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         "thermo_modify norm no flush yes",
         f"thermo {st['every'] * 10}",
     ]
+    if start_dump and method == "dynamics":
+        # the fluid as a built-lattice start has it: P = -Pi (density s rho0) in every
+        # cell, now at the cells of the start (balance yes over a run 0, then the fix as
+        # asked). The fluid mass s m_f0 of the reference cell would crowd into the start's
+        # smaller cells: 1e9 Pa at s = 0.4 from 0.6's steady state, and peripheral
+        # beads thrown out of their neighbours' cutoff
+        lines += [f"fix fluid all cgms/fluid dryness {dryness} {fix_args} balance yes",
+                  "run 0",
+                  f"fix fluid all cgms/fluid dryness {dryness} {fix_args}"]
     if dump and dump_every:
         lines += [f"dump traj all custom {dump_every} {dump}.traj {columns}",
                   f"dump_modify traj sort id {names}"]

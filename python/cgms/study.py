@@ -4,7 +4,8 @@
 """Steady states over moisture levels (the paper's moisture-domain approach, section 2.4),
 their morphology, and the initial dryness that lands on a requested moisture.
 
-Each level is one LAMMPS run from the built tissue to steady state. Results go to a folder,
+Each level is one LAMMPS run to steady state, from the built tissue (the paper's way) or,
+along a drying ramp, from the previous (wetter) level's steady state. Results go to a folder,
 one ``level.s<s>.json`` (+ ``.npy`` positions) per level, each written whole or not at all,
 so an interrupted sweep resumes without redoing finished levels; ``sweep.json`` records what
 defines the results (tissue, material, method, options), and a resume with another setup
@@ -28,6 +29,14 @@ FALLBACK = dict(method="dynamics", dt=5e-8, steady=dict(max_steps=4000000))
 FALLBACK_FOLDER = "dynamics"
 #: the values of :func:`sweep`'s ``fallback``: what follows where the quasi-static solve stops
 FALLBACKS = ("dynamics",)
+#: the values of :func:`sweep`'s ``start``: every level from the built tissue (the paper's
+#: moisture-domain approach), or each from the previous level's steady state (a drying
+#: ramp, as the MFC references are made: cgms.mfc_run.ramp)
+STARTS = ("built", "previous")
+
+
+class RampError(RuntimeError):
+    """A level of a ramp (``start="previous"``) that has no steady state to start from."""
 
 
 class LammpsError(RuntimeError):
@@ -58,21 +67,25 @@ def _lammps_reason(err, log):
 
 
 def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, pair_args="",
-          fix_args="", dump_every=None, method="dynamics", overrides=""):
+          fix_args="", dump_every=None, method="dynamics", overrides="", start_dump=None):
     """Relax the tissue in ``data`` to steady state at ``dryness``; write the final dump and
-    the log into ``out`` and return the result (positions, X/X0 reached, steps, ...)."""
+    the log into ``out`` and return the result (positions, X/X0 reached, steps, ...).
+    ``start_dump``: a dump of this tissue (e.g. another level's) whose positions the run
+    starts from instead of those of ``data``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     name = level_name(dryness)
     max_steps = dict(run.STEADY_DEFAULTS, **(steady or {}))["max_steps"]
-    start = time.perf_counter()
+    began = time.perf_counter()
     lmp = run.open_lammps(log=out / f"log.{name}.lammps")
     try:
         dump = (out / f"tissue.{name}.dump").resolve()
         lmp.commands_string(run.tissue_script(
             Path(data).resolve(), Path(material).resolve(), dryness, dump=dump,
             dump_every=dump_every, steady=steady, diameters=diameters, dt=dt,
-            pair_args=pair_args, fix_args=fix_args, method=method, overrides=overrides))
+            pair_args=pair_args, fix_args=fix_args, method=method, overrides=overrides,
+            start_dump=start_dump and (Path(start_dump).resolve(),
+                                       morphology.read_dump(start_dump)[-1]["timestep"])))
         solver = None
         if method == "newton":
             # progress of the Newton iterations, one line each, beside the LAMMPS log
@@ -94,7 +107,7 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
     lmp.close()
     if folded:
         raise LammpsError(dryness, folded, out / f"log.{name}.lammps")
-    state.update(dryness=dryness, seconds=time.perf_counter() - start, method=method,
+    state.update(dryness=dryness, seconds=time.perf_counter() - began, method=method,
                  converged=bool(state["steps"] < max_steps))
     if solver:
         # steps: Newton iterations; the residual is 0 by construction (P = -Pi)
@@ -130,7 +143,8 @@ def sha256(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, **kwargs):
+def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, start="built",
+          **kwargs):
     """:func:`relax` at every level, resuming: a level whose result file exists in ``out``
     is read back, not run again. ``out/sweep.json`` records the tissue, the material and
     the options (``kwargs``, and ``fallback`` when given); a folder with another record is
@@ -138,7 +152,17 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, **kw
     does not converge, follow the dynamics instead (:func:`relax_or_fallback`); every
     result then has ``fallback``, why it ran ("" where it did not), and a level the
     fallback solved has its log and dump in ``out/dynamics`` (:func:`dump_file`).
-    Returns the results in level order."""
+    ``start="previous"``: a drying ramp. The levels run from the wettest to the driest, the
+    first from the built tissue, every other from the previous level's steady state (its
+    dump; the fluid at P = -Pi of its own s, as from the built tissue): a dried
+    level's cutoff then need not reach across the built lattice (doc/calibration.md,
+    "Five levels"). Each result records where it started (``start``: "built" or the
+    level's name); a level that did not converge stops the ramp (:class:`RampError`)
+    before a drier level starts from it, and a resume whose levels would start a finished
+    one from elsewhere is refused (FolderError). Returns the results in level order
+    (wettest first for a ramp)."""
+    if start not in STARTS:
+        raise ValueError(f"start must be one of {', '.join(STARTS)}, not {start!r}")
     if fallback not in (None, *FALLBACKS):
         raise ValueError(f"fallback must be one of {', '.join(FALLBACKS)}, not {fallback!r}")
     if fallback and kwargs.get("method", "dynamics") == "dynamics":
@@ -150,29 +174,62 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, **kw
                  **{k: kwargs[k] for k in sorted(kwargs)})
     if fallback:
         setup["fallback"] = fallback    # only when given: folders of before read the same
+    if start != "built":
+        setup["start"] = start          # likewise
+        levels = sorted(levels, reverse=True)
     folders.same_setup(out / "sweep.json", setup)
     results = []
     bar = _progress(levels, progress)
     for s in bar:
         done = out / f"level.{level_name(s)}.json"
         positions = out / f"level.{level_name(s)}.npy"
+        options = dict(kwargs)
+        origin = level_name(results[-1]["dryness"]) if results else "built"
         if done.exists():
             result = folders.read_json(done)
             result["xy"] = folders.read_npy(positions)
+            if start == "previous" and result.get("start") != origin:
+                raise folders.FolderError(
+                    f"{out}: s = {s:g} was started from {result.get('start')}, but with these "
+                    f"levels it starts from {origin}; resume with the levels of the first "
+                    "run or choose another --out")
         else:
+            if start == "previous":
+                options["start_dump"] = _ramp_dump(out, s, results)
             if fallback:
-                start = time.perf_counter()
-                result, note = relax_or_fallback(data, material, s, out, **kwargs)
+                begun = time.perf_counter()
+                result, note = relax_or_fallback(data, material, s, out, **options)
                 # the level's time: the solve that stopped and the dynamics after it
-                result.update(fallback=note, seconds=time.perf_counter() - start)
+                result.update(fallback=note, seconds=time.perf_counter() - begun)
             else:
-                result = relax(data, material, s, out, **kwargs)
+                result = relax(data, material, s, out, **options)
+            if start == "previous":
+                result["start"] = origin
             folders.write_npy(positions, result["xy"])    # first: the .json says it is done
             folders.write_json(done, {k: v for k, v in result.items() if k != "xy"})
         results.append(result)
         if hasattr(bar, "set_postfix"):
             bar.set_postfix(s=s, moisture=f"{result['moisture']:.3f}", steps=result["steps"])
     return results
+
+
+def _ramp_dump(out, s, done):
+    """The dump level ``s`` of a ramp starts from after the levels ``done``: None (the
+    built tissue) for the first, else the previous level's final dump. RampError when that
+    level did not converge or its dump is gone."""
+    if not done:
+        return None
+    before = done[-1]
+    if not before["converged"]:
+        raise RampError(
+            f"s = {before['dryness']:g} did not reach its steady state, and a ramp (start "
+            f"previous) would start s = {s:g} from it: run again in a new folder with "
+            "--fallback dynamics or a larger --max-steps")
+    dump = dump_file(out, before)
+    if not dump.exists():
+        raise RampError(f"{dump}, the steady state s = {s:g} starts from (start previous), "
+                        "is missing: a ramp needs the dumps of its finished levels")
+    return dump
 
 
 def dump_file(folder, result):
