@@ -31,8 +31,8 @@ using MathSpecial::powint;
 
 PairSPHTaitwaterAP::PairSPHTaitwaterAP(LAMMPS *lmp) :
     Pair(lmp), kernel(LUCY), epsilon(0.2), exponent(4), walllo(0), wallhi(-1), wsum(nullptr),
-    wnorm(nullptr), nmax(0), rho0(nullptr), soundspeed(nullptr), B(nullptr), cut(nullptr),
-    viscosity(nullptr), spacing(nullptr), wdp_inv(nullptr)
+    wnorm(nullptr), pfluid(nullptr), nmax(0), rho0(nullptr), soundspeed(nullptr), B(nullptr),
+    cut(nullptr), viscosity(nullptr), spacing(nullptr), wdp_inv(nullptr)
 {
   if ((atom->esph_flag != 1) || (atom->rho_flag != 1) || (atom->vest_flag != 1))
     error->all(FLERR,
@@ -51,6 +51,7 @@ PairSPHTaitwaterAP::~PairSPHTaitwaterAP()
 {
   memory->destroy(wsum);
   memory->destroy(wnorm);
+  memory->destroy(pfluid);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -93,8 +94,10 @@ void PairSPHTaitwaterAP::wall_densities()
     nmax = atom->nmax;
     memory->destroy(wsum);
     memory->destroy(wnorm);
+    memory->destroy(pfluid);
     memory->create(wsum, nmax, "pair:wsum");
     memory->create(wnorm, nmax, "pair:wnorm");
+    memory->create(pfluid, nmax, "pair:pfluid");
   }
 
   double **x = atom->x;
@@ -104,6 +107,16 @@ void PairSPHTaitwaterAP::wall_densities()
   const int newton_pair = force->newton_pair;
   const int ntotal = newton_pair ? nlocal + atom->nghost : nlocal;
   for (int i = 0; i < ntotal; i++) wsum[i] = wnorm[i] = 0.0;
+
+  // the fluid's pressure once per particle, not once per wall pair: local and ghost
+  // fluid particles (a local wall sums over ghost fluid also with newton off)
+  const int nall = nlocal + atom->nghost;
+  for (int i = 0; i < nall; i++) {
+    if (is_wall(type[i])) continue;
+    const double tmp = rho[i] / rho0[type[i]];
+    const double tmp3 = tmp * tmp * tmp;
+    pfluid[i] = B[type[i]] * (tmp3 * tmp3 * tmp - 1.0);
+  }
 
   // W = wnorm0 / h^dim * shape(q); the norm matters where pairs differ in h
   const int dim3 = domain->dimension == 3;
@@ -140,9 +153,7 @@ void PairSPHTaitwaterAP::wall_densities()
       const int wall = iwall ? i : j;
       const int fluid = iwall ? j : i;
       if (wall >= nlocal && !newton_pair) continue;
-      const double tmp = rho[fluid] / rho0[type[fluid]];
-      const double tmp3 = tmp * tmp * tmp;
-      wsum[wall] += B[type[fluid]] * (tmp3 * tmp3 * tmp - 1.0) * w;
+      wsum[wall] += pfluid[fluid] * w;
       wnorm[wall] += w;
     }
   }
@@ -536,5 +547,5 @@ void PairSPHTaitwaterAP::unpack_reverse_comm(int n, int *list, double *buf)
 
 double PairSPHTaitwaterAP::memory_usage()
 {
-  return Pair::memory_usage() + 2.0 * nmax * sizeof(double);
+  return Pair::memory_usage() + 3.0 * nmax * sizeof(double);
 }

@@ -44,6 +44,7 @@ class PairSPHTaitwaterAP : public Pair {
   int walllo, wallhi;    // atom types of the walls (Adami's boundary); 0 0: none
 
   double *wsum, *wnorm;    // per atom: sum_f P_f W_wf and sum_f W_wf of a wall
+  double *pfluid;          // per atom: the Tait pressure P_f of a fluid particle
   int nmax;
 
   double *rho0, *soundspeed, *B;    // per type: the EOS
