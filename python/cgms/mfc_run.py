@@ -178,10 +178,10 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
     largest force component left (N), the centroid shift (m) and relative area change of
     the last chunk (for Newton: over its steps), the energy, ``converged``, ``newton`` (its
     successful calls ``attempts``, iterations, force evaluations and seconds, and the
-    ``error`` of a call that failed; None if it never ran), and for a level that did not converge, the mean
-    centroid shift of each chunk (``mean_shifts``, m) and what :func:`remaining`
-    extrapolates from them (``shift_ratio`` per chunk, ``remaining_shift``: the mean
-    centroid travel still to come, m)."""
+    ``error`` of a call that failed; None if it never ran), and for a level that did not
+    converge, the mean centroid shift of each chunk (``mean_shifts``, m) and what
+    :func:`remaining` extrapolates from them (``shift_ratio`` per chunk,
+    ``remaining_shift``: the mean centroid travel still to come, m)."""
     start = lmp.extract_global("ntimestep")
     lmp.commands_list(level_commands(p, s))
     centroid, cell_area = _cells(lmp, p["n_wall"])
