@@ -341,13 +341,13 @@ def test_newton_carries_on_after_a_spent_budget(tmp_path, monkeypatch):
 
 
 @pytest.mark.lammps
-@pytest.mark.parametrize("fails, newton, calls", [
-    ((), 1e-30, mfc_run.SPENT_NEWTON_CALLS),    # no progress, no failure: the cap
-    ((1,), 1e-30, 1),                           # the spent budget's first call fails
-    ((1,), 1.0, 1 + mfc_run.SPENT_NEWTON_CALLS),    # a chunk's earlier call failed
+@pytest.mark.parametrize("fails, newton, budget, calls", [
+    ((), 1e-30, 50, mfc_run.SPENT_NEWTON_CALLS),        # no progress, no failure: the cap
+    ((1,), 1e-30, 50, 1),                               # the spent budget's first call fails
+    ((1,), 1.0, 100, 1 + mfc_run.SPENT_NEWTON_CALLS),   # a chunk's earlier call failed
 ])
 def test_newton_after_a_spent_budget_counts_its_calls(tmp_path, monkeypatch, fails, newton,
-                                                      calls):
+                                                      budget, calls):
     """The calls Newton gets once the minimiser's iterations are spent: at most
     SPENT_NEWTON_CALLS, fewer when one fails (no step lowers the energy); a call that
     failed after an earlier chunk (``newton`` 1 N: every chunk ends in a call) does not
@@ -364,8 +364,8 @@ def test_newton_after_a_spent_budget_counts_its_calls(tmp_path, monkeypatch, fai
     monkeypatch.setattr(mfc_run, "_newton", stand_in)
     lmp = open_cells(tmp_path, [[0.0, 0.0]], s=0.6, jitter=1e-7)
     try:
-        report = mfc_run.relax(lmp, P, 0.6, chunk=50, max_iterations=100 if newton == 1.0
-                               else 50, ftol=1e-30, newton=newton)
+        report = mfc_run.relax(lmp, P, 0.6, chunk=50, max_iterations=budget, ftol=1e-30,
+                               newton=newton)
     finally:
         lmp.close()
     assert len(made) == calls and not report["converged"]

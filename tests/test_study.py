@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from cgms import cli, folders, study, tissue
-from cgmstest import APPLE, MAT
+from cgmstest import APPLE, MAT, two_blocks
 
 STEADY = dict(residual=1e-3, speed=1e-3, max_steps=200000)
 
@@ -169,9 +169,7 @@ def test_a_level_in_pieces_is_refused_by_every_method(tmp_path, monkeypatch):
     minimiser does: two sound blocks 3 spacings apart (no pair links them) settle each on
     its own. A level of every method, and the --fallback dynamics path, must stop with
     the cause instead of printing 'converged'; one block alone is a level."""
-    block = tissue.rectangle(0.6e-3, 0.6e-3, MAT["x_ref"])
-    apart = np.vstack([block, block + [np.ptp(block[:, 0]) + 3 * MAT["x_ref"], 0.0]])
-    for name, xy in (("one", block), ("two", apart)):
+    for name, xy in zip(("one", "two"), two_blocks()):
         tissue.write_data(tmp_path / f"{name}.data", xy, 3 * MAT["x_ref"])
     came_apart = r"s = 1: LAMMPS stopped: the steady state came apart: 2 pieces"
     for method in ("dynamics", "quasistatic", "newton"):
