@@ -94,6 +94,13 @@ def make_tissue(folder, ncols=9, nrows=10, jitter=0.05, seed=0, s=1.0, vscale=0.
     return dict(xy=xy, s=sv, v=v, n=n)
 
 
+def two_blocks():
+    """``(block, apart)``: a sound hexagonal tissue (0.6 x 0.6 mm) and two copies of it 3
+    spacings apart, a tissue in two pieces that no pair links."""
+    block = tissue.rectangle(0.6e-3, 0.6e-3, XREF)
+    return block, np.vstack([block, block + [np.ptp(block[:, 0]) + 3 * XREF, 0.0]])
+
+
 def header(data="tissue.data", newton="on", plugin=True, processors=None):
     """Commands up to and including read_data, with the per-bead state include."""
     return "\n".join([

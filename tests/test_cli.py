@@ -408,8 +408,10 @@ def test_levels_outside_the_materials_range_are_named_not_run(fake, capsys):
 @pytest.mark.skipif(not (ROOT / "build" / "env.sh").exists(), reason="./cgms setup not run")
 def test_build_env_adds_to_the_users_potentials_folders_and_does_not_grow():
     """build/env.sh puts potentials/ first in LAMMPS_POTENTIALS and keeps the user's own
-    folders after it, read when sourced (not baked in at set-up time), so sourcing it
-    twice, or a set-up run from a sourced shell, does not pile up copies."""
+    folders after it, read when sourced (not baked in at set-up time), so a set-up run
+    from a sourced shell does not pile up copies. (Sourcing it twice in one shell does
+    add a second copy, as to PYTHONPATH and LD_LIBRARY_PATH.) Fails on a build/env.sh
+    written by the tools/setup.sh of before 611506f."""
     env = {k: v for k, v in os.environ.items() if k != "LAMMPS_POTENTIALS"}
     script = f"source '{ROOT}/build/env.sh'; printf '%s\\n' \"$LAMMPS_POTENTIALS\""
     def sourced(extra):

@@ -38,6 +38,22 @@ def test_water_balance_with_moving_mechanics(tmp_path):
     assert rows[-1]["A/A0"] < 0.9              # it shrank, so the geometry moved
     assert rows[-1]["solves"] >= 5
     assert max(abs(r["balance"]) for r in rows) < 1e-10
+    # the geometry of the last solve still links each bead to its nearest shell only
+    assert np.bincount(res["grid"]["geometry"]["pairs"].ravel()).max() == 6
+
+
+def test_transport_neighbours_are_the_nearest_shell():
+    """The transport links a bead to the beads within the pair style's cutoff factor
+    times the median spacing: on a hexagonal lattice its six nearest, never the second
+    shell at sqrt(3) spacings (shape frozen, no LAMMPS)."""
+    a = MAT["x_ref"]
+    xy = tissue.hex_rectangle(6, 5, a)
+    res = drying.dry(xy, PARAMS, levers=dict(layers=2), hours=0.01)
+    geo = res["grid"]["geometry"]
+    count = np.bincount(geo["pairs"].ravel(), minlength=len(xy))
+    inner = np.hypot(*(xy - xy.mean(axis=0)).T) < a     # the beads around the centre
+    assert count.max() == 6 and np.all(count[inner] == 6)
+    assert np.allclose(geo["dist"], a, rtol=1e-12)
 
 
 def test_uniform_field_equals_moisture_domain(tmp_path):

@@ -162,15 +162,14 @@ def test_minimize_warns_when_it_ends_on_a_folded_tissue(tmp_path):
 
 @pytest.mark.lammps
 def test_folded_refuses_a_tissue_in_pieces(tmp_path):
-    """run.folded, which a study calls on a minimiser's or Newton's steady state, names a
+    """run.folded, which a study calls on every level's steady state, names a
     tissue that came apart (a minimiser ends on one without a word: FIRE left a 105-bead
     tissue in 11 pieces with lj_slope at its bound). Two blocks 3 spacings apart, each a
     sound hexagonal tissue, are refused; one block is not."""
     from cgms import run, tissue
-    from cgmstest import MAT, ROOT, new_lammps, working_directory
+    from cgmstest import MAT, ROOT, new_lammps, two_blocks, working_directory
 
-    block = tissue.rectangle(0.6e-3, 0.6e-3, MAT["x_ref"])
-    apart = np.vstack([block, block + [np.ptp(block[:, 0]) + 3 * MAT["x_ref"], 0.0]])
+    block, apart = two_blocks()
     seen = {}
     for name, xy in (("one", block), ("two", apart)):
         folder = tmp_path / name

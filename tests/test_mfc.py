@@ -341,6 +341,39 @@ def test_newton_carries_on_after_a_spent_budget(tmp_path, monkeypatch):
 
 
 @pytest.mark.lammps
+@pytest.mark.parametrize("fails, newton, budget, calls", [
+    ((), 1e-30, 50, mfc_run.SPENT_NEWTON_CALLS),        # no progress, no failure: the cap
+    ((1,), 1e-30, 50, 1),                               # the spent budget's first call fails
+    ((1,), 1.0, 100, 1 + mfc_run.SPENT_NEWTON_CALLS),   # a chunk's earlier call failed
+])
+def test_newton_after_a_spent_budget_counts_its_calls(tmp_path, monkeypatch, fails, newton,
+                                                      budget, calls):
+    """The calls Newton gets once the minimiser's iterations are spent: at most
+    SPENT_NEWTON_CALLS, fewer when one fails (no step lowers the energy); a call that
+    failed after an earlier chunk (``newton`` 1 N: every chunk ends in a call) does not
+    stop those of the spent budget. A stand-in Newton that leaves the state as it is."""
+    made = []
+
+    def stand_in(lmp, p, ftol, before=None):
+        made.append(len(made) + 1)
+        total = dict(before or dict(attempts=0, iterations=0, evaluations=0, seconds=0.0))
+        if len(made) in fails:
+            return dict(total, error="mfc newton: no step lowers the energy")
+        return dict(total, attempts=total["attempts"] + 1)
+
+    monkeypatch.setattr(mfc_run, "_newton", stand_in)
+    lmp = open_cells(tmp_path, [[0.0, 0.0]], s=0.6, jitter=1e-7)
+    try:
+        report = mfc_run.relax(lmp, P, 0.6, chunk=50, max_iterations=budget, ftol=1e-30,
+                               newton=newton)
+    finally:
+        lmp.close()
+    assert len(made) == calls and not report["converged"]
+    assert report["newton"]["attempts"] == calls - len(fails)
+    assert ("error" in report["newton"]) == bool(fails)
+
+
+@pytest.mark.lammps
 def test_newton_stiffness_matches_the_force_differences_column_by_column(tmp_path):
     """cgms.mfc_newton builds the stiffness from few force evaluations (particles of one
     colour displaced together, the cells' fluid stiffness taken out as a rank-one term);

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from cgms import cli, folders, study, tissue
-from cgmstest import APPLE, MAT
+from cgmstest import APPLE, MAT, two_blocks
 
 STEADY = dict(residual=1e-3, speed=1e-3, max_steps=200000)
 
@@ -161,6 +161,38 @@ def test_folded_steady_state_is_refused(small_tissue, tmp_path):
                     overrides=first_fit)
     healthy = study.relax(small_tissue, APPLE, 0.4, tmp_path / "ok", method="quasistatic")
     assert healthy["converged"]
+
+
+@pytest.mark.lammps
+def test_a_level_in_pieces_is_refused_by_every_method(tmp_path, monkeypatch):
+    """The dynamics reaches a steady state on a tissue in pieces without a word, as a
+    minimiser does: two sound blocks 3 spacings apart (no pair links them) settle each on
+    its own. A level of every method, and the --fallback dynamics path, must stop with
+    the cause instead of printing 'converged'; one block alone is a level."""
+    for name, xy in zip(("one", "two"), two_blocks()):
+        tissue.write_data(tmp_path / f"{name}.data", xy, 3 * MAT["x_ref"])
+    came_apart = r"s = 1: LAMMPS stopped: the steady state came apart: 2 pieces"
+    for method in ("dynamics", "quasistatic", "newton"):
+        with pytest.raises(study.LammpsError, match=came_apart):
+            study.relax(tmp_path / "two.data", APPLE, 1.0, tmp_path / method, method=method,
+                        steady=STEADY)
+    # the fallback: the quasi-static solve stops, the dynamics after it ends in pieces
+    solve = study.relax
+
+    def stopped(*args, method="dynamics", **kwargs):
+        if method != "dynamics":
+            raise study.LammpsError(1.0, "stopped to test the fallback", "log")
+        return solve(*args, method=method, **kwargs)
+
+    monkeypatch.setattr(study, "relax", stopped)
+    with pytest.raises(study.LammpsError, match=came_apart):
+        study.sweep(tmp_path / "two.data", APPLE, tmp_path / "fallback", levels=(1.0,),
+                    progress=False, fallback="dynamics", method="quasistatic", steady=STEADY)
+    assert not list((tmp_path / "fallback").glob("level.*"))    # no result written
+    monkeypatch.undo()
+    one = study.relax(tmp_path / "one.data", APPLE, 1.0, tmp_path / "one", method="dynamics",
+                      steady=STEADY)
+    assert one["converged"]
 
 
 def test_write_csv_columns_and_never_overwrites(tmp_path):

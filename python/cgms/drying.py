@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import material, morphology, run, transport
+from . import material, model, morphology, run, transport
 
 CONDITIONS = dict(temperature=70.0, humidity=0.1, velocity=1.5, thickness=2e-3,
                   plate_length=0.04, faces=2, outline=True, heat=True, shrink_thickness=True)
@@ -53,6 +53,14 @@ def read_params(name="apple-drying"):
     if missing:
         raise ValueError(f"{path}: missing {', '.join(sorted(missing))}")
     return params
+
+
+def bead_geometry(xy):
+    """:func:`cgms.transport.bead_geometry` of the beads at ``xy``, neighbours within
+    pair_style cgms's cutoff factor (:data:`cgms.model.CUTOFF_LJ`) times the current
+    median spacing: the nearest shell of the lattice, not the second at sqrt(3)
+    spacings."""
+    return transport.bead_geometry(xy, model.CUTOFF_LJ * morphology.spacing(xy))
 
 
 class Mechanics:
@@ -162,7 +170,7 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
     if mechanics is not None:
         xy = mechanics.solve(np.ones(n))          # the fresh steady state: the reference
     fresh = morphology.measures(xy)
-    geo = transport.bead_geometry(xy, 1.35 * morphology.spacing(xy))
+    geo = bead_geometry(xy)
     area0 = geo["area"].copy()
     thick0 = np.full(n, cond["thickness"])
     solids = params["solids_density"] * area0 * thick0
@@ -229,7 +237,7 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
             xy = mechanics.solve(s, surf / x0, core / x0)
             s_solved = s
             if transport_geometry:
-                geo = transport.bead_geometry(xy, 1.35 * morphology.spacing(xy))
+                geo = bead_geometry(xy)
                 thick = thick0 * np.sqrt(geo["area"] / area0) if cond["shrink_thickness"] \
                     else thick0
                 grid = transport.column_grid(geo, thick, solids, lev["layers"], cond["faces"])

@@ -177,10 +177,11 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
     shift test is then not used. None: the minimiser alone. Returns the iterations, the
     largest force component left (N), the centroid shift (m) and relative area change of
     the last chunk (for Newton: over its steps), the energy, ``converged``, ``newton`` (its
-    iterations and seconds, or None), and for a level that did not converge, the mean
-    centroid shift of each chunk (``mean_shifts``, m) and what :func:`remaining`
-    extrapolates from them (``shift_ratio`` per chunk, ``remaining_shift``: the mean
-    centroid travel still to come, m)."""
+    successful calls ``attempts``, iterations, force evaluations and seconds, and the
+    ``error`` of a call that failed; None if it never ran), and for a level that did not
+    converge, the mean centroid shift of each chunk (``mean_shifts``, m) and what
+    :func:`remaining` extrapolates from them (``shift_ratio`` per chunk,
+    ``remaining_shift``: the mean centroid travel still to come, m)."""
     start = lmp.extract_global("ntimestep")
     lmp.commands_list(level_commands(p, s))
     centroid, cell_area = _cells(lmp, p["n_wall"])
@@ -204,16 +205,16 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
                                   and not stalled)
         spent = done >= max_iterations
         if newton and not steady and (fmax <= newton or spent):
-            finish = _newton(lmp, p, ftol, finish)
-            fmax = lmp.get_thermo("fmax")
             # no minimiser chunk comes after a spent budget: Newton carries on alone while
             # it can take steps (each lowers the energy; the largest force need not fall
-            # far from the minimum)
-            calls = 1
-            while spent and fmax > ftol and calls < SPENT_NEWTON_CALLS and "error" not in finish:
+            # far from the minimum). Only this call's failure stops it: an earlier chunk's
+            # failed call stays in the report
+            for _ in range(SPENT_NEWTON_CALLS if spent else 1):
+                attempts = finish["attempts"] if finish else 0
                 finish = _newton(lmp, p, ftol, finish)
                 fmax = lmp.get_thermo("fmax")
-                calls += 1
+                if fmax <= ftol or finish["attempts"] == attempts:
+                    break
             steady = fmax <= ftol
             new_centroid, new_area = _cells(lmp, p["n_wall"])
             shifts = np.hypot(*(new_centroid - centroid).T)

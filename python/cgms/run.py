@@ -163,10 +163,11 @@ CROWDED = 12
 def folded(lmp):
     """A one-line reason when the state in ``lmp`` has folded onto itself (a bead with
     more than :data:`CROWDED` neighbours) or come apart (:func:`cgms.morphology.pieces`),
-    else ``None``. The dynamics stops on such a
-    state (fix cgms/fluid's damping check); a minimiser or Newton's method does not, and
-    would report a collapsed tissue as a steady state (measured: A/A0 0.13, 16-40
-    neighbours per bead, with a material whose perimeter law is nearly off)."""
+    else ``None``. The dynamics stops on a folded state (fix cgms/fluid's damping check)
+    but not on one in pieces (two sound blocks, or with ``isolated allow``); a minimiser or
+    Newton's method stops on neither, and would report a collapsed tissue as a steady
+    state (measured: A/A0 0.13, 16-40 neighbours per bead, with a material whose perimeter
+    law is nearly off). :func:`cgms.study.relax` calls it after every method."""
     from . import fields, morphology
 
     state = fields.bead_state(lmp, ["nneigh"])

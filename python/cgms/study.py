@@ -98,8 +98,9 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
                                           spacing=model.steady_spacing(mat, dryness),
                                           log=lambda line: print(line, file=fh, flush=True))
         state = run.steady_state(lmp)
-        # a minimiser or Newton lands on a folded tissue without a word; the dynamics stops
-        folded = None if method == "dynamics" else run.folded(lmp)
+        # every method: a minimiser or Newton lands on a folded tissue without a word, and
+        # the dynamics, which stops on a folded one, ends on a tissue in pieces as quietly
+        folded = run.folded(lmp)
     except Exception as err:
         log = out / f"log.{name}.lammps"
         lmp.close()

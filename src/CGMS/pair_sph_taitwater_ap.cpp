@@ -31,8 +31,8 @@ using MathSpecial::powint;
 
 PairSPHTaitwaterAP::PairSPHTaitwaterAP(LAMMPS *lmp) :
     Pair(lmp), kernel(LUCY), epsilon(0.2), exponent(4), walllo(0), wallhi(-1), wsum(nullptr),
-    wnorm(nullptr), nmax(0), rho0(nullptr), soundspeed(nullptr), B(nullptr), cut(nullptr),
-    viscosity(nullptr), spacing(nullptr), wdp_inv(nullptr)
+    wnorm(nullptr), pressure(nullptr), nmax(0), rho0(nullptr), soundspeed(nullptr), B(nullptr),
+    cut(nullptr), viscosity(nullptr), spacing(nullptr), wdp_inv(nullptr)
 {
   if ((atom->esph_flag != 1) || (atom->rho_flag != 1) || (atom->vest_flag != 1))
     error->all(FLERR,
@@ -51,6 +51,7 @@ PairSPHTaitwaterAP::~PairSPHTaitwaterAP()
 {
   memory->destroy(wsum);
   memory->destroy(wnorm);
+  memory->destroy(pressure);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -78,6 +79,30 @@ double PairSPHTaitwaterAP::shape(double q) const
 }
 
 /* ----------------------------------------------------------------------
+   the Tait equation of state, P = B ((rho / rho0)^7 - 1), of atom i
+------------------------------------------------------------------------- */
+
+double PairSPHTaitwaterAP::tait(int i) const
+{
+  const double tmp = atom->rho[i] / rho0[atom->type[i]];
+  const double tmp3 = tmp * tmp * tmp;
+  return B[atom->type[i]] * (tmp3 * tmp3 * tmp - 1.0);
+}
+
+/* ----------------------------------------------------------------------
+   the pressure of every local and ghost atom (or of the walls only), once
+   per atom rather than once per pair
+------------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::tait_pressures(bool walls_only)
+{
+  const int *type = atom->type;
+  const int nall = atom->nlocal + atom->nghost;
+  for (int i = 0; i < nall; i++)
+    if (!walls_only || is_wall(type[i])) pressure[i] = tait(i);
+}
+
+/* ----------------------------------------------------------------------
    Adami, Hu and Adams (2012), eqs. 27-28: a wall particle takes the pressure of
    the fluid around it, P_w = sum_f P_f W_wf / sum_f W_wf (their body-force and
    wall-acceleration term left out: no gravity here, and the walls move slowly
@@ -89,14 +114,6 @@ double PairSPHTaitwaterAP::shape(double q) const
 
 void PairSPHTaitwaterAP::wall_densities()
 {
-  if (atom->nmax > nmax) {
-    nmax = atom->nmax;
-    memory->destroy(wsum);
-    memory->destroy(wnorm);
-    memory->create(wsum, nmax, "pair:wsum");
-    memory->create(wnorm, nmax, "pair:wnorm");
-  }
-
   double **x = atom->x;
   double *rho = atom->rho;
   int *type = atom->type;
@@ -140,9 +157,7 @@ void PairSPHTaitwaterAP::wall_densities()
       const int wall = iwall ? i : j;
       const int fluid = iwall ? j : i;
       if (wall >= nlocal && !newton_pair) continue;
-      const double tmp = rho[fluid] / rho0[type[fluid]];
-      const double tmp3 = tmp * tmp * tmp;
-      wsum[wall] += B[type[fluid]] * (tmp3 * tmp3 * tmp - 1.0) * w;
+      wsum[wall] += pressure[fluid] * w;
       wnorm[wall] += w;
     }
   }
@@ -162,6 +177,7 @@ void PairSPHTaitwaterAP::wall_densities()
     rho[i] = rho0[itype] * pow(ratio, 1.0 / 7.0);
   }
   comm->forward_comm(this);
+  tait_pressures(true);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -169,6 +185,17 @@ void PairSPHTaitwaterAP::wall_densities()
 void PairSPHTaitwaterAP::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  if (atom->nmax > nmax) {
+    nmax = atom->nmax;
+    memory->destroy(pressure);
+    memory->destroy(wsum);
+    memory->destroy(wnorm);
+    memory->create(pressure, nmax, "pair:pressure");
+    memory->create(wsum, nmax, "pair:wsum");
+    memory->create(wnorm, nmax, "pair:wnorm");
+  }
+  // every atom's pressure from its density; the walls' then from the fluid's pressure
+  tait_pressures(false);
   if (walllo > 0) wall_densities();
 
   double **v = atom->vest;
@@ -206,10 +233,8 @@ void PairSPHTaitwaterAP::compute(int eflag, int vflag)
     const double imass = mass[itype];
     const int iwall = is_wall(itype);
 
-    // P_i / rho_i^2 from the Tait EOS; the artificial pressure R_i acts only in tension
-    double tmp = rho[i] / rho0[itype];
-    double fi = tmp * tmp * tmp;
-    fi = B[itype] * (fi * fi * tmp - 1.0) / (rho[i] * rho[i]);
+    // P_i / rho_i^2; the artificial pressure R_i acts only in tension
+    const double fi = pressure[i] / (rho[i] * rho[i]);
     const double ri = fi < 0.0 ? -epsilon * fi : 0.0;
 
     for (int jj = 0; jj < jnum; jj++) {
@@ -237,9 +262,7 @@ void PairSPHTaitwaterAP::compute(int eflag, int vflag)
       if (kernel == WENDLAND) wfd *= u;
       if (dim3) wfd /= h;
 
-      tmp = rho[j] / rho0[jtype];
-      double fj = tmp * tmp * tmp;
-      fj = B[jtype] * (fj * fj * tmp - 1.0) / (rho[j] * rho[j]);
+      const double fj = pressure[j] / (rho[j] * rho[j]);
       const double rj = fj < 0.0 ? -epsilon * fj : 0.0;
 
       // Monaghan's artificial pressure: (R_i + R_j) (W(r)/W(dp))^n
@@ -536,5 +559,5 @@ void PairSPHTaitwaterAP::unpack_reverse_comm(int n, int *list, double *buf)
 
 double PairSPHTaitwaterAP::memory_usage()
 {
-  return Pair::memory_usage() + 2.0 * nmax * sizeof(double);
+  return Pair::memory_usage() + 3.0 * nmax * sizeof(double);
 }

@@ -44,6 +44,7 @@ class PairSPHTaitwaterAP : public Pair {
   int walllo, wallhi;    // atom types of the walls (Adami's boundary); 0 0: none
 
   double *wsum, *wnorm;    // per atom: sum_f P_f W_wf and sum_f W_wf of a wall
+  double *pressure;        // per atom: the Tait pressure P of its density
   int nmax;
 
   double *rho0, *soundspeed, *B;    // per type: the EOS
@@ -53,6 +54,8 @@ class PairSPHTaitwaterAP : public Pair {
 
   void allocate();
   double shape(double) const;
+  double tait(int i) const;
+  void tait_pressures(bool walls_only);
   int is_wall(int type) const { return type >= walllo && type <= wallhi; }
   void wall_densities();
 };
