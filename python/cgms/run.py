@@ -97,6 +97,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         fix_args = f"diameter v_diameter {fix_args}"
     else:
         lines += [f"read_data {data}"]
+    ramped_dynamics = bool(start_dump) and method == "dynamics"
     if start_dump:
         # positions only (velocities stay zero, the fluid state is initialised from
         # dryness); read_dump re-fits the shrink-wrapped box around them
@@ -107,7 +108,7 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         f"pair_style cgms {pair_args}" + (" damping no" if method != "dynamics" else ""),
         f"pair_coeff * * {material} {overrides}",
         f"fix fluid all cgms/fluid dryness {dryness} {fix_args}"
-        + (" balance yes" if method == "newton" else ""),
+        + (" balance yes" if method == "newton" or ramped_dynamics else ""),
         "fix nve all nve",
         "fix 2d all enforce2d",
         f"timestep {dt}",
@@ -116,15 +117,13 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
         "thermo_modify norm no flush yes",
         f"thermo {st['every'] * 10}",
     ]
-    if start_dump and method == "dynamics":
+    if ramped_dynamics:
         # the fluid as a built-lattice start has it: P = -Pi (density s rho0) in every
-        # cell, now at the cells of the start (balance yes over a run 0, then the fix as
-        # asked). The fluid mass s m_f0 of the reference cell would crowd into the start's
-        # smaller cells: 1e9 Pa at s = 0.4 from 0.6's steady state, and peripheral
+        # cell, now at the cells of the start (the fix above balances over a run 0, then
+        # runs as asked). The fluid mass s m_f0 of the reference cell would crowd into the
+        # start's smaller cells: 1e9 Pa at s = 0.4 from 0.6's steady state, and peripheral
         # beads thrown out of their neighbours' cutoff
-        lines += [f"fix fluid all cgms/fluid dryness {dryness} {fix_args} balance yes",
-                  "run 0",
-                  f"fix fluid all cgms/fluid dryness {dryness} {fix_args}"]
+        lines += ["run 0", f"fix fluid all cgms/fluid dryness {dryness} {fix_args}"]
     if dump and dump_every:
         lines += [f"dump traj all custom {dump_every} {dump}.traj {columns}",
                   f"dump_modify traj sort id {names}"]
