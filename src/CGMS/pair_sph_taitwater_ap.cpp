@@ -19,6 +19,8 @@
 #include "math_special.h"
 #include "memory.h"
 #include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
 
 #include <cmath>
 #include <cstring>
@@ -195,6 +197,7 @@ void PairSPHTaitwaterAP::compute(int eflag, int vflag)
     memory->create(wnorm, nmax, "pair:wnorm");
   }
   // every atom's pressure from its density; the walls' then from the fluid's pressure
+  check_densities();
   tait_pressures(false);
   if (walllo > 0) wall_densities();
 
@@ -413,6 +416,48 @@ void PairSPHTaitwaterAP::coeff(int narg, char **arg)
     }
   }
   if (count == 0) error->all(FLERR, "Incorrect args for pair coefficients");
+}
+
+/* ----------------------------------------------------------------------
+   every pair term divides by the masses' densities and multiplies by the
+   masses: a zero, negative or non-finite one (e.g. from a data file's Masses
+   section) would turn every force into NaN without a word
+------------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::init_style()
+{
+  for (int t = 1; t <= atom->ntypes; t++)
+    if (atom->mass_setflag[t] && !(std::isfinite(atom->mass[t]) && atom->mass[t] > 0.0))
+      error->all(FLERR,
+                 "Pair sph/taitwater/ap: the mass of atom type {} is {}; it must be a finite "
+                 "number > 0 (check the data file's Masses section and the mass command)",
+                 t, atom->mass[t]);
+  neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   the density of a fluid particle (a wall's is computed) must be finite and
+   positive: at setup it comes from the user (the data file's Atoms section,
+   the set command), later from the continuity equation of the run
+------------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::check_densities()
+{
+  const double *rho = atom->rho;
+  const int *type = atom->type;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (is_wall(type[i]) || (std::isfinite(rho[i]) && rho[i] > 0.0)) continue;
+    if (update->setupflag)
+      error->one(FLERR,
+                 "Pair sph/taitwater/ap: atom {} has density {} at setup (step {}); every "
+                 "fluid particle needs a finite density > 0 (check the data file's Atoms "
+                 "section and any set density command)",
+                 atom->tag[i], rho[i], update->ntimestep);
+    error->one(FLERR,
+               "Pair sph/taitwater/ap: the density of atom {} became {} at step {}: the run is "
+               "unstable; use a smaller timestep (now {:.6g} s)",
+               atom->tag[i], rho[i], update->ntimestep, update->dt);
+  }
 }
 
 /* ---------------------------------------------------------------------- */

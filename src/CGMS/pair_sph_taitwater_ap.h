@@ -25,6 +25,7 @@ class PairSPHTaitwaterAP : public Pair {
   void compute(int, int) override;
   void settings(int, char **) override;
   void coeff(int, char **) override;
+  void init_style() override;
   double init_one(int, int) override;
   void write_restart(FILE *) override;
   void read_restart(FILE *) override;
@@ -58,6 +59,7 @@ class PairSPHTaitwaterAP : public Pair {
   void tait_pressures(bool walls_only);
   int is_wall(int type) const { return type >= walllo && type <= wallhi; }
   void wall_densities();
+  void check_densities();
 };
 
 }    // namespace LAMMPS_NS

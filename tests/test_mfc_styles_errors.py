@@ -1,0 +1,198 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""The fine-model styles used by hand (issue 26, "The fine-model styles used by hand").
+
+fix mfc/pressure sums a cell's area over the ring of its wall particles: a group holding
+part of a ring, two rings under one molecule ID, a particle without a cell (molecule ID 0),
+an empty group, a ring of two particles or an open one (a bond missing) each stop with an
+ERROR naming the molecule ID or particle (a part of a ring used to give an area that moves
+with the origin, two rings used to be summed into one cell). pair sph/taitwater/ap refuses
+a particle whose density (or a type whose mass) is not a finite positive number (one used
+to turn every value into NaN). The Examples block of doc/fix_mfc_pressure.rst runs as
+written on 1 and 2 ranks."""
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from cgmstest import PLUGIN, ROOT, run_lmp
+from test_mfc_sph import block_script
+
+pytestmark = pytest.mark.lammps
+
+
+def rings_data(rings, radius=1e-5, n=12):
+    """A data file (atom_style bond) of rings, each ``(molecule ID, centre x, n, bonds)``:
+    ``n`` particles counter-clockwise on a circle, consecutive atom IDs, bonded i -> next
+    (the last bond closes the ring; ``bonds`` = how many of the ring's bonds, n for a
+    closed ring)."""
+    atoms, bonds = [], []
+    for mol, cx, count, nbond in rings:
+        first = len(atoms) + 1
+        for k in range(count):
+            phi = 2 * math.pi * k / count
+            atoms.append(f"{first + k} {mol} 1 {cx + radius * math.cos(phi):.12e} "
+                         f"{radius * math.sin(phi):.12e} 0.0")
+        for k in range(nbond):
+            bonds.append((first + k, first + (k + 1) % count))
+    return "\n".join(
+        ["rings", "", f"{len(atoms)} atoms", f"{len(bonds)} bonds", "1 atom types",
+         "1 bond types", "", "-1e-4 2e-4 xlo xhi", "-1e-4 1e-4 ylo yhi", "-1e-6 1e-6 zlo zhi",
+         "", "Masses", "", "1 1e-12", "", "Atoms # bond", ""] + atoms
+        + ["", "Bonds", ""] + [f"{k + 1} 1 {i} {j}" for k, (i, j) in enumerate(bonds)]) + "\n"
+
+
+def ring_script(group="all", nprocs=1, tail=""):
+    return "\n".join([
+        f"plugin load {PLUGIN}", "units si", "dimension 2", "boundary f f p",
+        f"processors {nprocs} 1 1", "atom_style bond", "atom_modify map array",
+        "read_data rings.data", "pair_style zero 3e-5", "pair_coeff * *",
+        "bond_style harmonic", "bond_coeff 1 1.0 5e-6", "comm_modify cutoff 4e-5",
+        "group half id 1:6", "group whole molecule 1", "group none empty",
+        f"fix mfc {group} mfc/pressure height 6e-6 modulus 2e7 turgor 2e5 area 3e-10",
+        "thermo_style custom step f_mfc[1] f_mfc[2]", "thermo_modify format float %.17g",
+        tail or "run 0", ""])
+
+
+def run_rings(folder, rings, group="all", nprocs=1, tail="", **kwargs):
+    (folder / "rings.data").write_text(rings_data(rings, **kwargs))
+    return run_lmp(folder, ring_script(group, nprocs, tail), nprocs=nprocs, check=False)
+
+
+def error_line(proc):
+    return next((r for r in proc.stdout.splitlines() if "ERROR" in r), proc.stdout[-2000:])
+
+
+RING_CASES = [  # rings, group, what the ERROR says
+    ([(1, 0, 12, 12)], "half",
+     "cell (molecule ID) 1 is only partly in group half: its wall particle 1 is, its ring "
+     "neighbour 12 is not; the group must hold whole rings"),
+    ([(1, 0, 12, 12), (2, 5e-5, 12, 12)], "half", "cell (molecule ID) 1 is only partly"),
+    ([(1, 0, 12, 12), (1, 5e-5, 12, 12)], "all",
+     "molecule ID 1 holds 2 rings of wall particles; each cell needs its own molecule ID"),
+    ([(1, 0, 12, 12), (1, 5e-5, 12, 12), (1, -5e-5, 12, 12)], "whole", "molecule ID 1 holds 3"),
+    ([(1, 0, 12, 12), (0, 5e-5, 12, 12)], "all",
+     "wall particle 13 has molecule ID 0: every particle of group all needs the positive "
+     "molecule ID of its cell"),
+    ([(1, 0, 12, 12)], "none", "group none is empty"),
+    ([(1, 0, 2, 2)], "all", "wall particle 1 has 1 bond partner(s) in its own cell "
+     "(molecule ID 1)"),
+    ([(1, 0, 12, 11)], "all", "wall particle 1 has 1 bond partner(s) in its own cell"),
+    ([(1, 0, 12, 12), (2, 5e-5, 12, 11)], "all",
+     "wall particle 13 has 1 bond partner(s) in its own cell (molecule ID 2)"),
+]
+
+
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+@pytest.mark.parametrize("rings, group, message", RING_CASES)
+def test_rings_the_fix_refuses(tmp_path, rings, group, message, nprocs):
+    proc = run_rings(tmp_path, rings, group, nprocs)
+    assert proc.returncode != 0
+    assert message in error_line(proc), error_line(proc)
+
+
+def thermo(proc):
+    rows = [r.split() for r in proc.stdout.splitlines() if re.match(r"^\s*0\s+\S+\s+\S+\s*$", r)]
+    return [float(w) for w in rows[-1][1:]]
+
+
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+def test_whole_rings_give_areas_that_do_not_move_with_the_origin(tmp_path, nprocs):
+    """the control: two whole rings (the group 'whole' is ring 1 alone) are accepted, and
+    translating them leaves the area. Shoelace terms x_i y_j of size |t| R cancel to R^2:
+    the rounding is ~ n eps |t| / R of the area (12 * 2.2e-16 * 10), far below 1e-12."""
+    rings = [(1, 0, 12, 12), (2, 5e-5, 12, 12)]
+    for group, cells in (("all", 2), ("whole", 1)):
+        tail = "run 0\ndisplace_atoms all move 1e-4 -3e-5 0 units box\nrun 0"
+        proc = run_rings(tmp_path, rings, group, nprocs, tail)
+        assert proc.returncode == 0, proc.stdout[-2000:]
+        rows = [[float(w) for w in r.split()[1:]] for r in proc.stdout.splitlines()
+                if re.match(r"^\s*0\s+\S+\s+\S+\s*$", r)]
+        (n0, a0), (n1, a1) = rows[-2], rows[-1]
+        polygon = cells * 12 / 2 * 1e-10 * math.sin(2 * math.pi / 12)
+        assert n0 == n1 == cells
+        assert a0 == pytest.approx(polygon, rel=1e-12)
+        assert a1 == pytest.approx(a0, rel=1e-12)
+
+
+# --------------------------------------------------------------------------- SPH densities
+
+SPH_CASES = [  # how the block is spoilt, what the ERROR says
+    ("rho 0", "atom 5 has density 0 at setup (step 0); every fluid particle needs a finite "
+     "density > 0"),
+    ("rho -0.001", "atom 5 has density -0.001 at setup"),
+    ("rho nan", "atom 5 has density nan at setup"),
+    ("set density 0", "atom 5 has density 0 at setup"),
+    ("mass nan", "the mass of atom type 2 is nan; it must be a finite number > 0"),
+    ("mass inf", "the mass of atom type 2 is inf"),
+]
+
+
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+@pytest.mark.parametrize("case, message", SPH_CASES)
+def test_sph_refuses_a_bad_density_or_mass(tmp_path, case, message, nprocs):
+    """atom 5 is a fluid particle (type 2) of the block of test_mfc_sph"""
+    data, script = block_script()
+    lines = data.splitlines()
+    atom5 = next(k for k, r in enumerate(lines) if r.startswith("5 2 "))
+    if case.startswith("rho "):
+        words = lines[atom5].split()
+        words[2] = case.split()[1]
+        lines[atom5] = " ".join(words)
+    elif case.startswith("mass "):
+        lines[lines.index("2 9.6e-14")] = "2 " + case.split()[1]
+    else:
+        script = script.replace("neighbor 1e-6 bin", "set atom 5 density 0\nneighbor 1e-6 bin")
+    (tmp_path / "block.data").write_text("\n".join(lines) + "\n")
+    proc = run_lmp(tmp_path, script, nprocs=nprocs, check=False)
+    assert proc.returncode != 0
+    assert message in error_line(proc), error_line(proc)
+
+
+# --------------------------------------------------------------------------- the doc example
+
+def rst_blocks(path, title="Examples"):
+    """The code blocks of a section of an rst page: [(language, text)]."""
+    text = (ROOT / path).read_text()
+    part = text.split(f"\n{title}\n")[1]
+    part = re.split(r"\n\S[^\n]*\n\"{3,}\n", part)[0]
+    blocks = re.findall(r"\.\. code-block:: (\w+)\n\n((?:(?:   [^\n]*)?\n)+)", part)
+    return [(lang, "\n".join(r[3:] for r in body.splitlines())) for lang, body in blocks]
+
+
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+def test_fix_mfc_pressure_example_runs_as_written(tmp_path, nprocs):
+    """The Examples of doc/fix_mfc_pressure.rst: the Python block writes the data file, the
+    LAMMPS block (its plugin path made this build's) minimises it. The minimiser must reach
+    the example's force tolerance (not stop on a failed line search with a large force), and
+    2 ranks must find the same state: both stop at a force below ftol from the same start,
+    so positions agree to about ftol over the walls' stiffness (1e-10 N / 1e2 N/m = 1e-12 m),
+    far below the 1e-9 m checked."""
+    blocks = rst_blocks("doc/fix_mfc_pressure.rst")
+    python = [b for lang, b in blocks if lang == "python"]
+    lammps = [b for lang, b in blocks if lang == "LAMMPS"]
+    assert len(python) == 1 and len(lammps) == 1
+    import subprocess
+    import sys
+    from cgmstest import lammps_env
+    env = lammps_env()
+    env["PYTHONPATH"] = str(ROOT / "python")
+    subprocess.run([sys.executable, "-c", python[0]], cwd=tmp_path, env=env, check=True)
+    script = lammps[0].replace("/path/to/cgms/build/cgmsplugin.so", PLUGIN)
+    assert script != lammps[0]
+    ftol = float(re.search(r"^minimize\s+\S+\s+(\S+)", script, re.M).group(1))
+    script += ("\nwrite_dump all custom walls.dump id x y modify sort id format float %.17g\n"
+               'print "FMAX $(fmax:%.17g)"\n')
+    proc = run_lmp(tmp_path, script, nprocs=nprocs)
+    assert "linesearch alpha is zero" not in proc.stdout
+    fmax = float(re.search(r"^FMAX (\S+)", proc.stdout, re.M).group(1))
+    assert fmax < ftol, proc.stdout[-3000:]
+    rows = (tmp_path / "walls.dump").read_text().splitlines()[9:]
+    xy = np.array([[float(w) for w in r.split()[1:]] for r in rows])
+    np.save(tmp_path.parent / f"example-{nprocs}.npy", xy)
+    other = tmp_path.parent / f"example-{3 - nprocs}.npy"
+    if other.exists():
+        assert np.abs(np.load(other) - xy).max() < 1e-9
