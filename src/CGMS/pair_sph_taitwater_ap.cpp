@@ -19,7 +19,6 @@
 #include "math_special.h"
 #include "memory.h"
 #include "neigh_list.h"
-#include "neighbor.h"
 #include "update.h"
 
 #include <cmath>
@@ -416,23 +415,6 @@ void PairSPHTaitwaterAP::coeff(int narg, char **arg)
     }
   }
   if (count == 0) error->all(FLERR, "Incorrect args for pair coefficients");
-}
-
-/* ----------------------------------------------------------------------
-   every pair term divides by the masses' densities and multiplies by the
-   masses: a zero, negative or non-finite one (e.g. from a data file's Masses
-   section) would turn every force into NaN without a word
-------------------------------------------------------------------------- */
-
-void PairSPHTaitwaterAP::init_style()
-{
-  for (int t = 1; t <= atom->ntypes; t++)
-    if (atom->mass_setflag[t] && !(std::isfinite(atom->mass[t]) && atom->mass[t] > 0.0))
-      error->all(FLERR,
-                 "Pair sph/taitwater/ap: the mass of atom type {} is {}; it must be a finite "
-                 "number > 0 (check the data file's Masses section and the mass command)",
-                 t, atom->mass[t]);
-  neighbor->add_request(this);
 }
 
 /* ----------------------------------------------------------------------
