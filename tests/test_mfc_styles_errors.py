@@ -93,7 +93,9 @@ RING_CASES = [  # rings, group, what the ERROR says (a regular expression)
 
 
 @pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
-@pytest.mark.parametrize("rings, group, message", RING_CASES)
+@pytest.mark.parametrize("rings, group, message", RING_CASES, ids=[
+    "half-ring", "half-ring-of-two-cells", "two-rings", "three-rings", "molecule-0",
+    "empty-group", "ring-of-2", "open-ring", "open-second-ring"])
 def test_rings_the_fix_refuses(tmp_path, rings, group, message, nprocs):
     proc = run_rings(tmp_path, rings, group, nprocs)
     assert proc.returncode != 0
@@ -140,7 +142,7 @@ SPH_CASES = [  # how the block is spoilt, what the ERROR says
 
 
 @pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
-@pytest.mark.parametrize("case, message", SPH_CASES)
+@pytest.mark.parametrize("case, message", SPH_CASES, ids=[c for c, _ in SPH_CASES])
 def test_sph_refuses_a_bad_density_or_mass(tmp_path, case, message, nprocs):
     """atom 5 is a fluid particle (type 2) of the block of test_mfc_sph"""
     data, script = block_script()
