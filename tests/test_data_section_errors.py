@@ -167,3 +167,29 @@ def test_write_data_before_a_run_keeps_the_state_read(tmp_path, dried):
     again = (tmp_path / "again.data").read_text()
     for bead in range(1, NBEADS + 1):
         assert [float(v) for v in row(again, bead)] == [float(v) for v in row(dried, bead)]
+
+
+OTHER = [  # the section, the column spoilt (None: a Masses section added), what stops it
+    ("Atoms", 2, "nan", "Expected floating point parameter instead of 'nan'"),
+    ("Atoms", 3, "-inf", "Expected floating point parameter instead of '-inf'"),
+    ("Velocities", 1, "nan", "Expected floating point parameter instead of 'nan'"),
+    ("Masses", None, "-1", "Cannot set mass for atom style cgms"),
+]
+
+
+@pytest.mark.parametrize("name, column, value, message", OTHER,
+                         ids=[f"{n}-{v}" for n, _, v, _ in OTHER])
+def test_other_sections_refuse_nan_and_masses(tmp_path, dried, name, column, value, message):
+    """the rest of the file: LAMMPS refuses a NaN or infinite position or velocity, and a
+    Masses section (the masses come from the CGMS section), before any step runs"""
+    lines = dried.splitlines()
+    if column is None:
+        head = next(k for k, line in enumerate(lines) if line.startswith("Atoms"))
+        lines[head:head] = ["Masses", "", f"1 {value}", ""]
+    else:
+        head = next(k for k, line in enumerate(lines) if line.split("#")[0].strip() == name)
+        words = lines[head + 2].split()
+        words[column] = value
+        lines[head + 2] = " ".join(words)
+    proc = run_reread(tmp_path, "\n".join(lines) + "\n")
+    assert message in error_line(proc), error_line(proc)

@@ -181,8 +181,12 @@ bool AtomVecCGMS::data_file_brings_state()
 {
   if (!input->command || strcmp(input->command, "read_data") != 0 || input->narg < 1)
     return false;
+  // called for every bead: the same command as last time, without a copy
+  bool same = atom->natoms == scanned_natoms && input->narg == (int) scanned_args.size();
+  for (int iarg = 0; same && iarg < input->narg; iarg++)
+    same = scanned_args[iarg] == input->arg[iarg];
+  if (same) return scanned_awaits;
   std::vector<std::string> args(input->arg, input->arg + input->narg);
-  if (atom->natoms == scanned_natoms && args == scanned_args) return scanned_awaits;
 
   // the section 'fix CGMS header section' hands to fix CGMS, if any
   std::string section = CGMS::DATA_SECTION;
@@ -214,12 +218,17 @@ bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &sec
   char line[MAXLINE];
   bigint number = 0;
   bool found = false;
-  // the first line is the title; a section starts at a line of its name alone
+  // the first line is the title; a section starts at a line of its name alone (plus a
+  // comment). Most lines are numbers: compared as characters, without a copy
+  const char *blank = " \t\r\n";
   while (utils::fgets_trunc(line, MAXLINE, fp)) {
     number++;
     if (number == 1) continue;
-    const std::string text = utils::trim(utils::trim_comment(line));
-    if (text == section) {
+    const char *start = line + strspn(line, blank);
+    if (strncmp(start, section.c_str(), section.size()) != 0) continue;
+    const char *rest = start + section.size();
+    rest += strspn(rest, blank);
+    if (*rest == '\0' || *rest == '#') {
       found = true;
       break;
     }
@@ -240,9 +249,9 @@ bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &sec
     number++;
     while (utils::fgets_trunc(line, MAXLINE, fp)) {
       number++;
-      const auto words = utils::split_words(utils::trim_comment(line));
-      if (words.empty() || !utils::is_integer(words[0])) break;
-      const tagint id = utils::tnumeric(FLERR, words[0], true, lmp);
+      char *end = nullptr;
+      const auto id = static_cast<tagint>(strtoll(line, &end, 10));
+      if (end == line || !strchr(blank, *end)) break;    // not a bead's line: the section ended
       const auto seen = first_line.emplace(id, number);
       if (!seen.second) {
         close();
