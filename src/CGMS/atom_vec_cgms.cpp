@@ -179,8 +179,7 @@ void AtomVecCGMS::clear_data_row(int ilocal)
 
 bool AtomVecCGMS::data_file_brings_state()
 {
-  if (!input->command || strcmp(input->command, "read_data") != 0 || input->narg < 1)
-    return false;
+  if (!input->command || strcmp(input->command, "read_data") != 0 || input->narg < 1) return false;
   // called for every bead: the same command as last time, without a copy
   bool same = atom->natoms == scanned_natoms && input->narg == (int) scanned_args.size();
   for (int iarg = 0; same && iarg < input->narg; iarg++)
@@ -212,7 +211,9 @@ bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &sec
   const bool compressed = platform::has_compress_extension(file);
   FILE *fp = compressed ? platform::compressed_read(file) : fopen(file.c_str(), "r");
   if (!fp) return false;
-  const auto close = [&]() { compressed ? platform::pclose(fp) : fclose(fp); };
+  const auto close = [&]() {
+    compressed ? platform::pclose(fp) : fclose(fp);
+  };
 
   constexpr int MAXLINE = 256;    // longer lines are not section names or read whole
   char line[MAXLINE];
@@ -277,7 +278,9 @@ bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &sec
 
 std::string CGMS::data_row_problem(const double *row)
 {
-  const auto name = [](int k) { return std::string(column_names[STATE_OUTPUT[k]]); };
+  const auto name = [](int k) {
+    return std::string(column_names[STATE_OUTPUT[k]]);
+  };
   for (int k = 0; k < NSTATE; k++)
     if (!std::isfinite(row[k])) return fmt::format("{} = {}, not a finite number", name(k), row[k]);
   if (row[MF0] == NO_STATE) {
@@ -292,7 +295,7 @@ std::string CGMS::data_row_problem(const double *row)
     int column;
     bool zero_allowed;
   };
-  static constexpr Range positive[] = {{MF, false},  {MS, true},  {MF0, false},
+  static constexpr Range positive[] = {{MF, false},  {MS, true},   {MF0, false},
                                        {L0P, false}, {RHO, false}, {AREA, true}};
   if (!(row[DRYNESS] > 0.0 && row[DRYNESS] <= 1.0))
     return fmt::format("dryness = {}, outside (0, 1]", row[DRYNESS]);
