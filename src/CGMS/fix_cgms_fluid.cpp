@@ -687,10 +687,10 @@ bigint FixCGMSFluid::load_data_file_state()
 {
   int flag, cols;
   const int index = atom->find_custom(DATA_PROPERTY, flag, cols);
-  double **cg = bead_array(lmp);
   bigint loaded = 0;
   if (index >= 0 && flag == 1 && cols == NDATA) {
     double **data = atom->darray[index];
+    double **cg = bead_array(lmp);
     for (int i = 0; i < atom->nlocal; i++) {
       if (cg[i][MF0] > 0.0) continue;
       bool line = false;    // no line leaves the row at 0 (NaN != 0 counts as a line)
