@@ -68,13 +68,13 @@ def test_data_file_continues_the_run(tmp_path, nprocs):
 
 
 def test_without_the_section_the_state_is_lost_and_the_user_warned(tmp_path):
-    """the same file read without the fix keyword is refused by LAMMPS (unknown section);
+    """the same file read without the fix keyword is refused, naming the keyword;
     the file stripped of the section starts fresh, with a WARNING that names the keyword"""
     make_tissue(tmp_path, ncols=6, nrows=6, s=0.3)
     first = header() + physics() + "run 20000\nwrite_data mid.data\n" + OUTPUTS
     dried = outputs(run_lmp(tmp_path, first))[1]
     proc = run_lmp(tmp_path, reread(1, "", fix_keyword=False) + "run 0\n", check=False)
-    assert "Unknown identifier in data file: CGMS" in proc.stdout
+    assert "read the file with 'read_data mid.data fix CGMS NULL CGMS'" in proc.stdout
     text = (tmp_path / "mid.data").read_text()
     start = text.index("\nCGMS")
     end = text.find("\n\n", text.index("\n\n", start + 1) + 2)

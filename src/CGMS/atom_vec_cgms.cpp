@@ -11,9 +11,12 @@
 #include "cgms_store.h"
 #include "error.h"
 #include "fix_cgms_fluid.h"
+#include "input.h"
 #include "modify.h"
 
+#include <cmath>
 #include <cstring>
+#include <unordered_map>
 
 using namespace LAMMPS_NS;
 
@@ -21,7 +24,8 @@ static constexpr char FIELD[] = "cgms";
 
 /* ---------------------------------------------------------------------- */
 
-AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) : AtomVec(lmp), rmass(nullptr), cgms(nullptr)
+AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) :
+    AtomVec(lmp), rmass(nullptr), cgms(nullptr), scanned_natoms(-1), scanned_awaits(false)
 {
   molecular = Atom::ATOMIC;
   mass_type = PER_ATOM;
@@ -120,19 +124,191 @@ void AtomVecCGMS::grow_pointers()
 /* ----------------------------------------------------------------------
    a new bead has no fluid state yet: fix cgms/fluid fills it from the
    material parameters and its dryness at the next setup (MF0 <= 0 marks it).
-   The placeholder mass keeps LAMMPS's mass checks quiet until then.
+   The placeholder mass keeps LAMMPS's mass checks quiet until then. Its row
+   of fix CGMS may hold what a deleted bead left there: cleared, so that the
+   bead cannot take over another one's state.
 ------------------------------------------------------------------------- */
 
 void AtomVecCGMS::create_atom_post(int ilocal)
 {
   rmass[ilocal] = 1.0;
   for (int k = 0; k < CGMS::NSTATE; k++) cgms[ilocal][k] = 0.0;
-  cgms[ilocal][CGMS::MF0] = -1.0;
+  cgms[ilocal][CGMS::MF0] = CGMS::NO_STATE;
+  clear_data_row(ilocal);
 }
+
+/* ----------------------------------------------------------------------
+   a bead of a data file whose CGMS section read_data hands to fix CGMS
+   awaits its line: fix cgms/fluid names a bead that got none at setup
+------------------------------------------------------------------------- */
 
 void AtomVecCGMS::data_atom_post(int ilocal)
 {
   create_atom_post(ilocal);
+  if (data_file_brings_state()) cgms[ilocal][CGMS::MF0] = CGMS::AWAITS_DATA_LINE;
+}
+
+/* ----------------------------------------------------------------------
+   write_data: a data file of the same name may be read again afterwards
+------------------------------------------------------------------------- */
+
+void AtomVecCGMS::pack_data(double **buf)
+{
+  scanned_natoms = -1;
+  AtomVec::pack_data(buf);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void AtomVecCGMS::clear_data_row(int ilocal)
+{
+  int flag, cols;
+  const int index = atom->find_custom(CGMS::DATA_PROPERTY, flag, cols);
+  if (index < 0 || flag != 1) return;
+  for (int k = 0; k < cols; k++) atom->darray[index][ilocal][k] = 0.0;
+}
+
+/* ----------------------------------------------------------------------
+   read_data reads the Atoms section before the sections write_data puts
+   after it, and a section no fix was named for stops it with "Unknown
+   identifier in data file", which cannot say how to read it: so the data
+   file is looked at here, once per read_data command (by each processor
+   that receives beads; one that cannot open the file skips the checks).
+   Returns whether the file's CGMS section goes to fix CGMS.
+------------------------------------------------------------------------- */
+
+bool AtomVecCGMS::data_file_brings_state()
+{
+  if (!input->command || strcmp(input->command, "read_data") != 0 || input->narg < 1) return false;
+  // called for every bead: the same command as last time, without a copy
+  bool same = atom->natoms == scanned_natoms && input->narg == (int) scanned_args.size();
+  for (int iarg = 0; same && iarg < input->narg; iarg++)
+    same = scanned_args[iarg] == input->arg[iarg];
+  if (same) return scanned_awaits;
+  std::vector<std::string> args(input->arg, input->arg + input->narg);
+
+  // the section 'fix CGMS header section' hands to fix CGMS, if any
+  std::string section = CGMS::DATA_SECTION;
+  bool routed = false;
+  for (int iarg = 1; iarg + 3 < input->narg; iarg++)
+    if (strcmp(input->arg[iarg], "fix") == 0 && strcmp(input->arg[iarg + 1], CGMS::DATA_FIX) == 0) {
+      section = input->arg[iarg + 3];
+      routed = true;
+    }
+  scanned_awaits = scan_data_file(input->arg[0], section, routed);
+  scanned_args = args;
+  scanned_natoms = atom->natoms;
+  return scanned_awaits;
+}
+
+/* ----------------------------------------------------------------------
+   whether the data file has the section; stop if it has one that read_data
+   was not told to hand to fix CGMS, or one with two lines for a bead
+------------------------------------------------------------------------- */
+
+bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &section, bool routed)
+{
+  const bool compressed = platform::has_compress_extension(file);
+  FILE *fp = compressed ? platform::compressed_read(file) : fopen(file.c_str(), "r");
+  if (!fp) return false;
+  const auto close = [&]() {
+    compressed ? platform::pclose(fp) : fclose(fp);
+  };
+
+  constexpr int MAXLINE = 256;    // longer lines are not section names or read whole
+  char line[MAXLINE];
+  bigint number = 0;
+  bool found = false;
+  // the first line is the title; a section starts at a line of its name alone (plus a
+  // comment). Most lines are numbers: compared as characters, without a copy
+  const char *blank = " \t\r\n";
+  while (utils::fgets_trunc(line, MAXLINE, fp)) {
+    number++;
+    if (number == 1) continue;
+    const char *start = line + strspn(line, blank);
+    if (strncmp(start, section.c_str(), section.size()) != 0) continue;
+    const char *rest = start + section.size();
+    rest += strspn(rest, blank);
+    if (*rest == '\0' || *rest == '#') {
+      found = true;
+      break;
+    }
+  }
+  if (found && !routed) {
+    close();
+    error->one(FLERR,
+               "Data file {} has a {} section (the beads' fluid state, written by write_data "
+               "with fix cgms/fluid defined) at line {}; read_data can read it only into fix "
+               "{}, which atom_style cgms defines: read the file with 'read_data {} fix {} "
+               "NULL {}' (without it the beads would lose the state)",
+               file, section, number, CGMS::DATA_FIX, file, CGMS::DATA_FIX, section);
+  }
+
+  // the section's lines: a bead with two lines leaves another without one
+  std::unordered_map<tagint, bigint> first_line;
+  if (found && utils::fgets_trunc(line, MAXLINE, fp)) {    // the blank line after the name
+    number++;
+    while (utils::fgets_trunc(line, MAXLINE, fp)) {
+      number++;
+      char *end = nullptr;
+      const auto id = static_cast<tagint>(strtoll(line, &end, 10));
+      if (end == line || !strchr(blank, *end)) break;    // not a bead's line: the section ended
+      const auto seen = first_line.emplace(id, number);
+      if (!seen.second) {
+        close();
+        error->one(FLERR,
+                   "Data file {}: bead {} has two lines in the {} section (lines {} and {}), so "
+                   "another bead has none: give every bead exactly one line (write_data "
+                   "writes them so)",
+                   file, id, section, seen.first->second, number);
+      }
+    }
+  }
+  close();
+  return found;
+}
+
+/* ----------------------------------------------------------------------
+   the column ranges of a CGMS section line (doc/atom_style_cgms.rst):
+   every value finite; dryness in (0, 1]; masses, turgid perimeter and
+   density positive (the solid mass may be 0), the area of the last step
+   0 (none yet) or positive. The line 'id 0 0 0 -1 0 0 0 0' is a bead
+   without a fluid state.
+------------------------------------------------------------------------- */
+
+std::string CGMS::data_row_problem(const double *row)
+{
+  const auto name = [](int k) {
+    return std::string(column_names[STATE_OUTPUT[k]]);
+  };
+  for (int k = 0; k < NSTATE; k++)
+    if (!std::isfinite(row[k])) return fmt::format("{} = {}, not a finite number", name(k), row[k]);
+  if (row[MF0] == NO_STATE) {
+    for (int k = 0; k < NSTATE; k++)
+      if (k != MF0 && row[k] != 0.0)
+        return fmt::format("mf0 = -1 (no fluid state) but {} = {}: a bead without a state "
+                           "has 0 in every other column",
+                           name(k), row[k]);
+    return "";
+  }
+  struct Range {
+    int column;
+    bool zero_allowed;
+  };
+  static constexpr Range positive[] = {{MF, false},  {MS, true},   {MF0, false},
+                                       {L0P, false}, {RHO, false}, {AREA, true}};
+  if (!(row[DRYNESS] > 0.0 && row[DRYNESS] <= 1.0))
+    return fmt::format("dryness = {}, outside (0, 1]", row[DRYNESS]);
+  for (const auto &r : positive) {
+    const double value = row[r.column];
+    if (value > 0.0 || (r.zero_allowed && value == 0.0)) continue;
+    if (r.column == MF0)
+      return fmt::format("mf0 = {}: it must be > 0 (or -1 for a bead without a fluid state)",
+                         value);
+    return fmt::format("{} = {}: it must be {}", name(r.column), value,
+                       r.zero_allowed ? ">= 0" : "> 0");
+  }
+  return "";
 }
 
 /* ---------------------------------------------------------------------- */

@@ -10,7 +10,24 @@
 
 #include "atom_vec.h"
 
+#include <string>
+#include <vector>
+
 namespace LAMMPS_NS {
+
+namespace CGMS {
+  // MF0 of a bead read from a data file whose CGMS section read_data hands to
+  // fix CGMS: its line is still to come (<= 0: no fluid state yet)
+  constexpr double AWAITS_DATA_LINE = -2.0;
+  // MF0 of a data-file line that declares a bead without a fluid state (what
+  // write_data writes for such a bead: every other column 0)
+  constexpr double NO_STATE = -1.0;
+
+  // what is wrong with a line (row) of the data file's CGMS section, in the
+  // row's column order: "" if nothing, else the column, its value and the range
+  // it needs
+  std::string data_row_problem(const double *row);
+}    // namespace CGMS
 
 // One bead per plant cell: per-atom mass plus the per-bead array "cgms", the
 // bead's state (dryness, fluid and solid mass, fresh state, density, area,
@@ -26,12 +43,22 @@ class AtomVecCGMS : public AtomVec {
   void create_atom_post(int) override;
   int unpack_restart(double *) override;
   void data_atom_post(int) override;
+  void pack_data(double **) override;
   int property_atom(const std::string &) override;
   void pack_property_atom(int, double *, int, int) override;
 
  private:
   double *rmass;
   double **cgms;
+
+  // the read_data command whose data file was last looked at, and what it held
+  std::vector<std::string> scanned_args;
+  bigint scanned_natoms;
+  bool scanned_awaits;
+
+  void clear_data_row(int);
+  bool data_file_brings_state();
+  bool scan_data_file(const std::string &, const std::string &, bool);
 };
 
 }    // namespace LAMMPS_NS

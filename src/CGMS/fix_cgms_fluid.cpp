@@ -8,6 +8,7 @@
 #include "fix_cgms_fluid.h"
 
 #include "atom.h"
+#include "atom_vec_cgms.h"
 #include "cgms_store.h"
 #include "comm.h"
 #include "error.h"
@@ -676,7 +677,10 @@ bigint FixCGMSFluid::initialise_beads()
 
 /* ----------------------------------------------------------------------
    beads without a fluid state take the one a data file brought (read_data
-   ... fix CGMS NULL CGMS); returns how many did, over all ranks
+   ... fix CGMS NULL CGMS), each line checked first: a value out of range, or
+   a bead of such a file without a line, stops here rather than giving the
+   bead the fresh state or surfacing later as an unstable step. Returns how
+   many beads took a state, over all ranks.
 ------------------------------------------------------------------------- */
 
 bigint FixCGMSFluid::load_data_file_state()
@@ -687,12 +691,33 @@ bigint FixCGMSFluid::load_data_file_state()
   if (index >= 0 && flag == 1 && cols == NDATA) {
     double **data = atom->darray[index];
     double **cg = bead_array(lmp);
-    // the section holds the row, column by column
     for (int i = 0; i < atom->nlocal; i++) {
-      if (cg[i][MF0] > 0.0 || !(data[i][MF0] > 0.0)) continue;
-      for (int k = 0; k < NDATA; k++) cg[i][k] = data[i][k];
-      data[i][MF0] = 0.0;    // taken over: the bead's own state rules from now on
-      loaded++;
+      if (cg[i][MF0] > 0.0) continue;
+      bool line = false;    // no line leaves the row at 0 (NaN != 0 counts as a line)
+      for (int k = 0; k < NDATA; k++) line = line || data[i][k] != 0.0;
+      if (!line) {
+        if (cg[i][MF0] == AWAITS_DATA_LINE)
+          error->one(FLERR,
+                     "Fix cgms/fluid: bead {} has no line in the data file's {} section: "
+                     "give every bead of the file exactly one line 'id dryness mf ms mf0 l0p "
+                     "rho area dmdt' (write_data writes them so)",
+                     atom->tag[i], DATA_SECTION);
+        continue;
+      }
+      const std::string problem = data_row_problem(data[i]);
+      if (!problem.empty())
+        error->one(FLERR,
+                   "Fix cgms/fluid: the line of bead {} in the data file's {} section has {}; "
+                   "correct the line (columns: id dryness mf ms mf0 l0p rho area dmdt) or write "
+                   "the file again with write_data",
+                   atom->tag[i], DATA_SECTION, problem);
+      // the section holds the row, column by column; a declared fresh bead keeps none
+      if (data[i][MF0] != NO_STATE) {
+        for (int k = 0; k < NDATA; k++) cg[i][k] = data[i][k];
+        loaded++;
+      } else
+        cg[i][MF0] = NO_STATE;
+      for (int k = 0; k < NDATA; k++) data[i][k] = 0.0;    // the bead's own state rules now
     }
   }
   bigint all = 0;
@@ -747,9 +772,17 @@ void FixCGMSFluid::write_data_section_size(int, int &nx, int &ny)
 void FixCGMSFluid::write_data_section_pack(int, double **buf)
 {
   double **cg = bead_array(lmp);
+  int flag, cols;
+  const int index = atom->find_custom(DATA_PROPERTY, flag, cols);
+  double **data = index >= 0 && flag == 1 && cols == NDATA ? atom->darray[index] : nullptr;
   for (int i = 0; i < atom->nlocal; i++) {
     buf[i][0] = ubuf(atom->tag[i]).d;
-    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = cg[i][k];
+    // a bead without a state yet: the one a data file brought for it, not yet taken over
+    // at a setup, or the line of a bead without one
+    const double *row = cg[i];
+    if (cg[i][MF0] <= 0.0) row = data && data[i][MF0] > 0.0 ? data[i] : nullptr;
+    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = row ? row[k] : 0.0;
+    if (!row) buf[i][MF0 + 1] = NO_STATE;
   }
 }
 

@@ -63,8 +63,10 @@ FixMFCPressure::FixMFCPressure(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "Fix mfc/pressure area (fluid mass / (rho0 height)) must be > 0, not {}",
                fluid_area);
 
+  if (group->count(igroup) == 0)
+    error->all(FLERR, "Fix mfc/pressure group {} is empty: it must hold the cells' wall particles",
+               group->names[igroup]);
   ncell = max_molecule();
-  if (ncell < 1) error->all(FLERR, "Fix mfc/pressure group {} holds no cell", group->names[igroup]);
 
   scalar_flag = 1;
   extscalar = 1;
@@ -77,10 +79,10 @@ FixMFCPressure::FixMFCPressure(LAMMPS *lmp, int narg, char **arg) :
   extarray = 0;
   energy_global_flag = 1;
 
-  memory->create(sums, 2 * ncell, "mfc/pressure:sums");
+  memory->create(sums, NSUM * ncell, "mfc/pressure:sums");
   memory->create(area, ncell, "mfc/pressure:area");
   memory->create(pressure, ncell, "mfc/pressure:pressure");
-  for (int k = 0; k < 2 * ncell; k++) sums[k] = 0.0;
+  for (int k = 0; k < NSUM * ncell; k++) sums[k] = 0.0;
   for (int c = 0; c < ncell; c++) area[c] = pressure[c] = 0.0;
 }
 
@@ -102,11 +104,23 @@ int FixMFCPressure::setmask()
 
 /* ---------------------------------------------------------------------- */
 
+/* ----------------------------------------------------------------------
+   the largest molecule ID in the group; every wall particle's ID names its
+   cell, so it must be positive
+------------------------------------------------------------------------- */
+
 int FixMFCPressure::max_molecule()
 {
   tagint local = 0, global = 0;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (atom->mask[i] & groupbit) local = MAX(local, atom->molecule[i]);
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    if (atom->molecule[i] <= 0)
+      error->one(FLERR,
+                 "Fix mfc/pressure: wall particle {} has molecule ID {}: every particle of "
+                 "group {} needs the positive molecule ID of its cell",
+                 atom->tag[i], atom->molecule[i], group->names[igroup]);
+    local = MAX(local, atom->molecule[i]);
+  }
   MPI_Allreduce(&local, &global, 1, MPI_LMP_TAGINT, MPI_MAX, world);
   if (global > MAXSMALLINT)
     error->all(FLERR, "Fix mfc/pressure: molecule IDs up to {} are too large", global);
@@ -150,7 +164,9 @@ void FixMFCPressure::min_post_force(int vflag)
    (closest images): the ring is numbered counter-clockwise with consecutive
    IDs, so a partner one ID up is the next, one down the previous, and the
    bond that closes the ring (first-last) goes the other way. Bond partners
-   in other cells (a bonded middle lamella) are not part of the ring.
+   in other cells (a bonded middle lamella) are not part of the ring. The
+   ring must lie in the group as a whole: the area of a part of it depends
+   on where the origin is.
 ------------------------------------------------------------------------- */
 
 void FixMFCPressure::ring_partners(int i, int &prev, int &next)
@@ -168,6 +184,11 @@ void FixMFCPressure::ring_partners(int i, int &prev, int &next)
                  other, me);
     j = domain->closest_image(i, j);
     if (atom->molecule[j] != atom->molecule[i]) continue;
+    if (!(atom->mask[j] & groupbit))
+      error->one(FLERR,
+                 "Fix mfc/pressure: cell (molecule ID) {} is only partly in group {}: its wall "
+                 "particle {} is, its ring neighbour {} is not; the group must hold whole rings",
+                 atom->molecule[i], group->names[igroup], me, other);
     own++;
     const bool is_next = (other == me + 1) || (other < me - 1);
     if (is_next)
@@ -177,19 +198,23 @@ void FixMFCPressure::ring_partners(int i, int &prev, int &next)
   }
   if (own != 2)
     error->one(FLERR,
-               "Fix mfc/pressure: wall particle {} has {} bond partners in its own cell; "
-               "each must be bonded to exactly its two ring neighbours",
-               me, own);
+               "Fix mfc/pressure: wall particle {} has {} bond partner(s) in its own cell "
+               "(molecule ID {}); each must be bonded to exactly its two ring neighbours, in a "
+               "closed ring of at least 3 particles",
+               me, own, atom->molecule[i]);
   if (prev < 0 || next < 0)
     error->one(FLERR,
-               "Fix mfc/pressure: the ring of wall particle {} is not numbered with "
-               "consecutive IDs",
-               me);
+               "Fix mfc/pressure: the ring of wall particle {} (molecule ID {}) is not "
+               "numbered with consecutive IDs",
+               me, atom->molecule[i]);
 }
 
 /* ----------------------------------------------------------------------
    enclosed areas by the shoelace sum, each directed wall edge i -> next
-   counted by the owner of i; pressures; forces P H dA/dx_i
+   counted by the owner of i; pressures; forces P H dA/dx_i.
+   A ring numbered with consecutive IDs has exactly one edge to a lower ID
+   (last -> first): more under one molecule ID are more rings, which would
+   be summed into one cell.
 ------------------------------------------------------------------------- */
 
 void FixMFCPressure::post_force(int /*vflag*/)
@@ -200,7 +225,7 @@ void FixMFCPressure::post_force(int /*vflag*/)
   const tagint *molecule = atom->molecule;
   const int nlocal = atom->nlocal;
 
-  for (int k = 0; k < 2 * ncell; k++) sums[k] = 0.0;
+  for (int k = 0; k < NSUM * ncell; k++) sums[k] = 0.0;
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     int prev, next;
@@ -209,16 +234,22 @@ void FixMFCPressure::post_force(int /*vflag*/)
     if (c < 0 || c >= ncell)
       error->one(FLERR, "Fix mfc/pressure: wall particle {} has molecule ID {} outside 1..{}",
                  atom->tag[i], molecule[i], ncell);
-    sums[2 * c] += 0.5 * (x[i][0] * x[next][1] - x[next][0] * x[i][1]);
-    sums[2 * c + 1] += 1.0;
+    sums[NSUM * c] += 0.5 * (x[i][0] * x[next][1] - x[next][0] * x[i][1]);
+    sums[NSUM * c + 1] += 1.0;
+    if (atom->tag[next] < atom->tag[i]) sums[NSUM * c + 2] += 1.0;
   }
-  MPI_Allreduce(MPI_IN_PLACE, sums, 2 * ncell, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(MPI_IN_PLACE, sums, NSUM * ncell, MPI_DOUBLE, MPI_SUM, world);
 
   energy = 0.0;
   for (int c = 0; c < ncell; c++) {
-    area[c] = sums[2 * c];
+    area[c] = sums[NSUM * c];
     pressure[c] = 0.0;
-    if (sums[2 * c + 1] == 0.0) continue;    // no such cell in the group
+    if (sums[NSUM * c + 1] == 0.0) continue;    // no such cell in the group
+    if (sums[NSUM * c + 2] != 1.0)
+      error->all(FLERR,
+                 "Fix mfc/pressure: molecule ID {} holds {:.0f} rings of wall particles; each "
+                 "cell needs its own molecule ID (one closed ring per ID)",
+                 c + 1, sums[NSUM * c + 2]);
     if (!(area[c] > 0.0))
       error->all(FLERR,
                  "Fix mfc/pressure: cell {} encloses area {} <= 0 on step {}: its wall "
@@ -259,7 +290,7 @@ double FixMFCPressure::compute_vector(int n)
 {
   double count = 0.0, total = 0.0, mean = 0.0;
   for (int c = 0; c < ncell; c++)
-    if (sums[2 * c + 1] > 0.0) {
+    if (sums[NSUM * c + 1] > 0.0) {
       count += 1.0;
       total += area[c];
       mean += pressure[c];

@@ -36,8 +36,10 @@ class FixMFCPressure : public Fix {
   double turgor;        // P_T: the pressure at A = A_f (Pa)
   double fluid_area;    // A_f: fluid mass / (rho0 H), the area at rest density (m^2)
 
-  int ncell;           // largest molecule ID in the group at creation
-  double *sums;        // per cell: enclosed area, wall particle count (local, then global)
+  int ncell;    // largest molecule ID in the group at creation
+  // per cell: enclosed area, wall particle count, edges to a lower ID (local, then global)
+  static constexpr int NSUM = 3;
+  double *sums;
   double *area;        // per cell: enclosed area (m^2)
   double *pressure;    // per cell: pressure (Pa)
   double energy;       // sum over cells of -H int_{A_f}^{A} P dA (J)

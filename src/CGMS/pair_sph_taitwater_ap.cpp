@@ -19,6 +19,7 @@
 #include "math_special.h"
 #include "memory.h"
 #include "neigh_list.h"
+#include "update.h"
 
 #include <cmath>
 #include <cstring>
@@ -195,6 +196,7 @@ void PairSPHTaitwaterAP::compute(int eflag, int vflag)
     memory->create(wnorm, nmax, "pair:wnorm");
   }
   // every atom's pressure from its density; the walls' then from the fluid's pressure
+  check_densities();
   tait_pressures(false);
   if (walllo > 0) wall_densities();
 
@@ -413,6 +415,31 @@ void PairSPHTaitwaterAP::coeff(int narg, char **arg)
     }
   }
   if (count == 0) error->all(FLERR, "Incorrect args for pair coefficients");
+}
+
+/* ----------------------------------------------------------------------
+   the density of a fluid particle (a wall's is computed) must be finite and
+   positive: at setup it comes from the user (the data file's Atoms section,
+   the set command), later from the continuity equation of the run
+------------------------------------------------------------------------- */
+
+void PairSPHTaitwaterAP::check_densities()
+{
+  const double *rho = atom->rho;
+  const int *type = atom->type;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (is_wall(type[i]) || (std::isfinite(rho[i]) && rho[i] > 0.0)) continue;
+    if (update->setupflag)
+      error->one(FLERR,
+                 "Pair sph/taitwater/ap: atom {} has density {} at setup (step {}); every "
+                 "fluid particle needs a finite density > 0 (check the data file's Atoms "
+                 "section and any set density command)",
+                 atom->tag[i], rho[i], update->ntimestep);
+    error->one(FLERR,
+               "Pair sph/taitwater/ap: the density of atom {} became {} at step {}: the run is "
+               "unstable; use a smaller timestep (now {:.6g} s)",
+               atom->tag[i], rho[i], update->ntimestep, update->dt);
+  }
 }
 
 /* ---------------------------------------------------------------------- */

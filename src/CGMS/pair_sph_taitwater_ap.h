@@ -58,6 +58,7 @@ class PairSPHTaitwaterAP : public Pair {
   void tait_pressures(bool walls_only);
   int is_wall(int type) const { return type >= walllo && type <= wallhi; }
   void wall_densities();
+  void check_densities();
 };
 
 }    // namespace LAMMPS_NS
