@@ -76,6 +76,10 @@ constexpr double RESTART_LAYOUT = -2.0;
 // halvings of an adaptive step that would drive a node below zero moisture
 constexpr int MAX_HALVINGS = 60;
 constexpr int MAX_LAYERS = 1000;
+// the Reynolds numbers of the flat-plate correlations: the highest of the mixed one,
+// and the lowest at which a boundary layer (Re >> 1) can still be claimed
+constexpr double RE_MAX = 1e8;
+constexpr double RE_MIN = 1.0;
 
 // a bead whose widest angular gap between neighbours exceeds this is on the outline:
 // on a hexagonal lattice an interior bead's gaps are 60 deg, a concave corner's open
@@ -456,6 +460,13 @@ void FixCGMSTransport::air_coefficients()
   const double nu = mu / rho;
   const double pr = mu * cp / k, sc = nu / dva;
   const double re = velocity * plate / nu;
+  if (re > RE_MAX || re < RE_MIN)
+    error->all(FLERR,
+               "Fix cgms/transport: air at {} m/s over a plate of {} m has a Reynolds number of "
+               "{:.3g}, outside {:g} to {:g}, the range of the flat-plate boundary-layer "
+               "Sherwood correlations (Incropera et al. 2007, eqs. 7.30 and 7.38; a boundary "
+               "layer needs Re >> 1): give another velocity or plate",
+               velocity, plate, re, RE_MIN, RE_MAX);
   const double sh = re < 5e5 ? 0.664 * sqrt(re) * cbrt(sc)
                              : (0.037 * pow(re, 0.8) - 871.0) * cbrt(sc);
   kc = sh * dva / plate;
@@ -1107,7 +1118,14 @@ void FixCGMSTransport::move()
   }
   time += dt;
   nmoves++;
-  if (dx_max > 0.0) dt_move = MIN(dt_max, dt * MIN(2.0, dx_max / MAX(change, 1e-12)));
+  if (dx_max > 0.0) {
+    dt_move = MIN(dt_max, dt * MIN(2.0, dx_max / MAX(change, 1e-12)));
+    if (!std::isnormal(dt_move))
+      error->all(FLERR,
+                 "Fix cgms/transport: the adaptive moisture step shrank to {:.3g} s: a change of "
+                 "X/X0 of dx_max = {:g} per step is below what a step resolves (keyword adapt)",
+                 dt_move, dx_max);
+  }
   refresh_vector();
   rate = (before - water) / (water0 - gone0) / (dt / 3600.0);
   vec[3] = rate;
@@ -1170,6 +1188,11 @@ void FixCGMSTransport::assemble(double dt)
   pair_g.assign(pair_j.size() * layers, 0.0);
   for (int i = 0; i < nlocal; i++) {
     const double mass = column(i)[layers] / multiplicity / layers;
+    if (!std::isfinite(mass / dt))
+      error->one(FLERR,
+                 "Fix cgms/transport: a moisture step of {:.3g} s is too short to hold the "
+                 "water of bead {} (its storage mass / dt overflows): give a longer dt",
+                 dt, atom->tag[i]);
     double *const d = &dn[i * layers];
     for (int l = 0; l < layers; l++) {
       const int n = i * layers + l;
