@@ -52,7 +52,6 @@ constexpr char STATE_PROPERTY[] = "cgms_transport";
 // bead's column (X of every layer, S, A0, L0). The layout leads, so that a row of
 // another layer count still tells its layers.
 enum Row {
-  R_TAG,         // the bead the row belongs to (a new bead has another or 0)
   R_LAYERS,      // layout
   R_FACES,
   R_X0,          // X0 of the parameter file the columns started from
@@ -136,7 +135,7 @@ inline double series(double g, double alpha)
 /* ---------------------------------------------------------------------- */
 
 FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), list(nullptr), istate(-1), out(nullptr), nmax_bead(0), rho_s(nullptr),
+    Fix(lmp, narg, arg), list(nullptr), istate(-1), out(nullptr), own(nullptr), nmax_own(0), nmax_bead(0), rho_s(nullptr),
     dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr), dn(nullptr),
     diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr), c0f(nullptr),
     bn(nullptr), xnew(nullptr), comm_vec(nullptr), cg(nullptr), along(nullptr), shift(nullptr),
@@ -350,6 +349,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   comm_forward = layers + 2;
   dynamic_group_allow = 0;
   create_attribute = 1;
+  maxexchange = 5;    // the outputs and the own flag
 
   // the solver's ghost exchange: this fix's forward communication of a node array
   cg = new CGMS::ColumnCG(world, [this](double *v) {
@@ -360,22 +360,28 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
 
   FixCGMSTransport::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
-  for (int i = 0; i < atom->nlocal; i++)
+  // the beads there are now own their rows (fresh, or from a restart file, a data file
+  // or an earlier fix); beads created later do not
+  for (int i = 0; i < atom->nlocal; i++) {
     for (int m = 0; m < 4; m++) out[i][m] = 1.0;
+    own[i] = 1;
+  }
 }
 
 /* ----------------------------------------------------------------------
    the state store: a fix property/atom with a fixed ID, made by the first
    transport fix and kept when this fix is replaced or deleted, so that the
-   tissue's moisture travels with its beads as its fluid state does. After
-   read_restart, defining it again (here) restores its rows; before read_data
-   the user defines it to receive the data file's section.
+   tissue's moisture travels with its beads as its fluid state does (sorting,
+   migration, deletion, restart files under any ID of this fix). After
+   read_restart, defining it again (here) restores its rows. It stays out of
+   data files: read_data reads at most 256 characters of a line, fewer than a
+   row of full-precision values (check_not_dried guards that gap).
 ------------------------------------------------------------------------- */
 
 void FixCGMSTransport::post_constructor()
 {
   if (!modify->get_fix_by_id(STATE_FIX))
-    modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata yes", STATE_FIX,
+    modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata no", STATE_FIX,
                                 STATE_PROPERTY, nstore));
   bind_state();
   check_state_layout();
@@ -388,6 +394,7 @@ FixCGMSTransport::~FixCGMSTransport()
 {
   if (modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
   memory->destroy(out);
+  memory->destroy(own);
   for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &diag, &lower, &c1, &c0, &c1f,
                      &c0f, &bn, &xnew})
     memory->destroy(*p);
@@ -546,11 +553,11 @@ double *FixCGMSTransport::column(int i) const
   return atom->darray[istate][i] + NHEAD;
 }
 
-// the row is this bead's own (a bead created later finds 0 or a stale row there)
+// the row is this bead's own: a bead created later may find the row of a deleted
+// one in its slot, so the fix marks the beads it knows (own)
 bool FixCGMSTransport::has_column(int i) const
 {
-  const double *row = atom->darray[istate][i];
-  return row[R_TAG] == (double) atom->tag[i] && row[NHEAD + layers] > 0.0;
+  return own[i] && atom->darray[istate][i][NHEAD + layers] > 0.0;
 }
 
 void FixCGMSTransport::bind_state()
@@ -568,11 +575,10 @@ void FixCGMSTransport::bind_state()
                STATE_PROPERTY);
   if (cols != nstore)
     error->all(FLERR,
-               "Fix cgms/transport: fix {} holds {} values per bead, the state of {} layers; "
-               "this fix has layers {}, which needs {}: define it as 'fix {} all property/atom "
-               "d2_{} {} writedata yes' (or give layers {})",
-               STATE_FIX, cols, cols - NHEAD - 3, layers, nstore, STATE_FIX, STATE_PROPERTY,
-               nstore, cols - NHEAD - 3);
+               "Fix cgms/transport: fix {} holds the tissue's moisture columns with {} values "
+               "per bead, the state of {} layers; this fix has layers {}: give layers {} (or "
+               "unfix {} to start the tissue afresh at X0)",
+               STATE_FIX, cols, cols - NHEAD - 3, layers, cols - NHEAD - 3, STATE_FIX);
 }
 
 /* ----------------------------------------------------------------------
@@ -585,7 +591,7 @@ void FixCGMSTransport::check_state_layout()
   double **row = rows();
   int bad = -1;
   for (int i = 0; i < atom->nlocal && bad < 0; i++) {
-    if (row[i][R_TAG] != (double) atom->tag[i]) continue;
+    if (!(row[i][NHEAD + layers] > 0.0)) continue;
     if (row[i][R_LAYERS] != layers || row[i][R_FACES] != faces || row[i][R_X0] != x0) bad = i;
   }
   const tagint mine = bad >= 0 ? atom->tag[bad] : MAXTAGINT;
@@ -599,8 +605,9 @@ void FixCGMSTransport::check_state_layout()
   error->all(FLERR,
              "Fix cgms/transport: the tissue's moisture columns (from a restart file, a data "
              "file or an earlier fix) hold {} layers and faces {} from X0 {}; this fix has "
-             "layers {} faces {} and X0 {} ({}): give the same",
-             all[0], all[1], all[2], layers, faces, x0, params_file);
+             "layers {} faces {} and X0 {} ({}): give the same (or unfix {} to start the "
+             "tissue afresh at X0)",
+             all[0], all[1], all[2], layers, faces, x0, params_file, STATE_FIX);
 }
 
 /* ----------------------------------------------------------------------
@@ -616,16 +623,16 @@ void FixCGMSTransport::check_columns()
   if (first != MAXTAGINT)
     error->all(FLERR,
                "Fix cgms/transport: bead {} has no moisture column: it was added after the "
-               "tissue's columns were set up (create_atoms, fix deposit, read_data add) or "
-               "the data file's {} section misses it. Create every bead before the first run "
-               "of fix cgms/transport, or delete the new ones",
-               first, STATE_FIX);
+               "tissue's columns were set up (create_atoms, fix deposit, read_data add). "
+               "Create every bead before the first run of fix cgms/transport, or delete the "
+               "new ones",
+               first);
 }
 
 /* ----------------------------------------------------------------------
    a tissue without columns starts at X0; refuse that for one the fluid state
-   shows dried (its dryness below 1: a data file read without the section
-   STATE_FIX), which would silently undo its drying. Checked at init, before
+   shows dried (its dryness below 1, e.g. from a data file, which cannot carry
+   the columns), which would silently undo its drying. Checked at init, before
    fix cgms/fluid takes the dryness of this fix's (fresh) output.
 ------------------------------------------------------------------------- */
 
@@ -647,12 +654,12 @@ void FixCGMSTransport::check_not_dried()
   if (first != MAXTAGINT)
     error->all(FLERR,
                "Fix cgms/transport: bead {} has a dryness below 1 (a dried tissue) but the "
-               "tissue has no moisture columns: starting them at X0 would undo its drying. A "
-               "tissue dried by this fix carries its columns in restart files and, as the data "
-               "file section {}, in data files: before read_data define 'fix {} all "
-               "property/atom d2_{} {} writedata yes' and add 'fix {} NULL {}' to read_data. "
-               "To start drying a tissue held at a lower dryness, give it dryness 1 first",
-               first, STATE_FIX, STATE_FIX, STATE_PROPERTY, nstore, STATE_FIX, STATE_FIX);
+               "tissue has no moisture columns: starting them at X0 would undo its drying. "
+               "Data files cannot carry the columns (read_data reads at most 256 characters "
+               "of a line); continue a dried tissue from a restart file (write_restart, "
+               "read_restart). To start drying a tissue held at a lower dryness, give it "
+               "dryness 1 first",
+               first);
 }
 
 /* ----------------------------------------------------------------------
@@ -707,7 +714,7 @@ void FixCGMSTransport::save_globals()
   head[R_RATE] = rate;
   double **row = rows();
   for (int i = 0; i < atom->nlocal; i++)
-    for (int k = R_LAYERS; k < NHEAD; k++) row[i][k] = head[k];
+    for (int k = 0; k < NHEAD; k++) row[i][k] = head[k];
 }
 
 /* ----------------------------------------------------------------------
@@ -737,10 +744,8 @@ void FixCGMSTransport::account_removed()
 void FixCGMSTransport::initialise_columns()
 {
   geometry();
-  const tagint *tag = atom->tag;
   for (int i = 0; i < atom->nlocal; i++) {
-    double *row = rows()[i];
-    row[R_TAG] = (double) tag[i];
+    own[i] = 1;
     column(i)[layers] = solids_density * area[i] * thickness;
     column(i)[layers + 1] = area[i];
     column(i)[layers + 2] = thickness;
@@ -1345,12 +1350,19 @@ void FixCGMSTransport::unpack_forward_comm(int n, int first, double *buf)
 void FixCGMSTransport::grow_arrays(int nmax)
 {
   memory->grow(out, nmax, 4, "cgms/transport:out");
+  memory->grow(own, nmax, "cgms/transport:own");
+  for (int i = nmax_own; i < nmax; i++) own[i] = 0;
+  nmax_own = nmax;
   array_atom = out;
 }
 
-void FixCGMSTransport::copy_arrays(int i, int j, int)
+// delflag: slot i is freed (delete_atoms, migration), and whatever lands there later
+// is not the bead whose row it holds
+void FixCGMSTransport::copy_arrays(int i, int j, int delflag)
 {
   for (int m = 0; m < 4; m++) out[j][m] = out[i][m];
+  own[j] = own[i];
+  if (delflag) own[i] = 0;
 }
 
 // a bead created during a run (fix deposit, fix pour): no column of its own, an
@@ -1358,18 +1370,21 @@ void FixCGMSTransport::copy_arrays(int i, int j, int)
 void FixCGMSTransport::set_arrays(int i)
 {
   for (int m = 0; m < 4; m++) out[i][m] = 1.0;
+  own[i] = 0;
 }
 
 int FixCGMSTransport::pack_exchange(int i, double *buf)
 {
   for (int m = 0; m < 4; m++) buf[m] = out[i][m];
-  return 4;
+  buf[4] = own[i];
+  return 5;
 }
 
 int FixCGMSTransport::unpack_exchange(int nlocal, double *buf)
 {
   for (int m = 0; m < 4; m++) out[nlocal][m] = buf[m];
-  return 4;
+  own[nlocal] = (int) buf[4];
+  return 5;
 }
 
 /* ----------------------------------------------------------------------
@@ -1404,7 +1419,7 @@ void FixCGMSTransport::restart(char *buf)
 double FixCGMSTransport::memory_usage()
 {
   return sizeof(double) *
-      ((double) atom->nmax * 4 + 9.0 * nmax_bead + 14.0 * nmax_bead * layers +
+      ((double) atom->nmax * 4.5 + 9.0 * nmax_bead + 14.0 * nmax_bead * layers +
        (double) pair_g.size() + (double) pair_dist.size()) +
       sizeof(int) * ((double) pair_j.size() + pair_start.size());
 }

@@ -89,6 +89,8 @@ class FixCGMSTransport : public Fix {
   int istate;    // index of that array in Atom::darray
   int nstore;    // columns per bead: the global state, layers, S, A0, L0
   double **out;    // per-atom output: dryness, mean, surface, core X/X0
+  int *own;        // 1: the bead's row in the state store is its own
+  int nmax_own;
 
   // per bead, local and ghost, rebuilt every moisture step
   int nmax_bead;
