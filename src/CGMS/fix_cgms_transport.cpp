@@ -52,7 +52,7 @@ constexpr char STATE_PROPERTY[] = "cgms_transport";
 // bead's column (X of every layer, S, A0, L0). The layout leads, so that a row of
 // another layer count still tells its layers.
 enum Row {
-  R_LAYERS,      // layout
+  R_LAYERS,    // layout
   R_FACES,
   R_X0,          // X0 of the parameter file the columns started from
   R_TIME,        // drying time (s)
@@ -61,7 +61,7 @@ enum Row {
   R_OUT_EDGE,
   R_OUT_GONE,    // water, and initial water, of the beads deleted so far (kg)
   R_GONE0,
-  R_WATER,     // water, dry solid and beads of the tissue at the last moisture step
+  R_WATER,    // water, dry solid and beads of the tissue at the last moisture step
   R_SOLIDS,
   R_BEADS,
   R_TPRODUCT,    // product temperature of the last step (the next step's D lags on it)
@@ -135,11 +135,11 @@ inline double series(double g, double alpha)
 /* ---------------------------------------------------------------------- */
 
 FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), list(nullptr), istate(-1), out(nullptr), own(nullptr), nmax_own(0), nmax_bead(0), rho_s(nullptr),
-    dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr), dn(nullptr),
-    diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr), c0f(nullptr),
-    bn(nullptr), xnew(nullptr), comm_vec(nullptr), cg(nullptr), along(nullptr), shift(nullptr),
-    shift_new(nullptr)
+    Fix(lmp, narg, arg), list(nullptr), istate(-1), out(nullptr), own(nullptr), nmax_own(0),
+    nmax_bead(0), rho_s(nullptr), dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr),
+    xn(nullptr), dn(nullptr), diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr),
+    c0f(nullptr), bn(nullptr), xnew(nullptr), comm_vec(nullptr), cg(nullptr), along(nullptr),
+    shift(nullptr), shift_new(nullptr)
 {
   if (narg < 4)
     error->all(FLERR,

@@ -86,8 +86,8 @@ class FixCGMSTransport : public Fix {
   // travels with the bead, into restart and data files and past this fix's
   // re-definition): the global state, then X of every layer, dry solid S (kg,
   // whole column), fresh area A0 (m^2), fresh thickness L0 (m)
-  int istate;    // index of that array in Atom::darray
-  int nstore;    // columns per bead: the global state, layers, S, A0, L0
+  int istate;      // index of that array in Atom::darray
+  int nstore;      // columns per bead: the global state, layers, S, A0, L0
   double **out;    // per-atom output: dryness, mean, surface, core X/X0
   int *own;        // 1: the bead's row in the state store is its own
   int nmax_own;
