@@ -299,3 +299,24 @@ def test_bad_values_name_the_cause(tmp_path, fix_args, message):
                + ["run 3"], check=False)
     assert proc.returncode != 0
     assert message in first_error(proc), proc.stdout[-2000:]
+
+
+@pytest.mark.parametrize("line, message", [
+    ("D_ref 1e400", "D_ref = 1e400 is beyond a double"),
+    ("D_ref 0", "D_ref > 0"),
+    ("T_ref -300", "T_ref above absolute zero"),
+    ("D_moisture 1e6", "the diffusivity of bead"),
+    ("D_energy -1e10", "the diffusivity of bead"),
+])
+def test_bad_parameter_file_names_the_cause(tmp_path, line, message):
+    """A parameter file value beyond a double, a D_ref that moves no water, a T_ref below
+    absolute zero, or D_energy or D_moisture so extreme that D_eff is 0 or inf at some node
+    (which used to end in 'residual -nan', an exception or a silent run)."""
+    name = line.split()[0]
+    text = "".join(raw if not raw.split() or raw.split()[0] != name else line + "\n"
+                   for raw in PARAMS_FILE.read_text().splitlines(keepends=True))
+    (tmp_path / "p.params").write_text(text)
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + ["fix tr all cgms/transport p.params"] + outputs() + ["run 3"], check=False)
+    assert proc.returncode != 0
+    assert message in first_error(proc), proc.stdout[-2000:]

@@ -126,9 +126,10 @@ void gab_activity(double x, double xm, double c, double k, double &aw, double &s
 }
 
 // share of the surface law that reaches a node through a half-cell conductance g
+// (none when neither conducts: a node at zero diffusivity behind free water)
 inline double series(double g, double alpha)
 {
-  return g / (g + alpha);
+  return g + alpha > 0.0 ? g / (g + alpha) : 0.0;
 }
 }    // namespace
 
@@ -435,18 +436,21 @@ void FixCGMSTransport::read_params(const char *file)
     if (k == n) error->all(FLERR, "{} line {}: unknown parameter '{}'", where, p.line, p.name);
     if (!utils::is_double(p.value))
       error->all(FLERR, "{} line {}: '{}' is not a number", where, p.line, p.value);
-    *targets[k] = std::stod(p.value);
+    // strtod, not stod: a value beyond a double is inf, refused below, not an exception
+    *targets[k] = strtod(p.value.c_str(), nullptr);
+    if (!std::isfinite(*targets[k]))
+      error->all(FLERR, "{} line {}: {} = {} is beyond a double", where, p.line, p.name, p.value);
     given |= 1 << k;
   }
   std::string missing;
   for (int k = 0; k < n; k++)
     if (!(given & (1 << k))) missing += std::string(missing.empty() ? "" : ", ") + names[k];
   if (!missing.empty()) error->all(FLERR, "{} misses {}", where, missing);
-  if (!(x0 > 0.0) || !(solids_density > 0.0) || d_ref < 0.0 || !(gab_xm > 0.0) || !(gab_c > 1.0) ||
-      !(gab_k > 0.0 && gab_k < 1.0))
+  if (!(x0 > 0.0) || !(solids_density > 0.0) || !(d_ref > 0.0) || !(t_ref > -KELVIN) ||
+      !(gab_xm > 0.0) || !(gab_c > 1.0) || !(gab_k > 0.0 && gab_k < 1.0))
     error->all(FLERR,
-               "Fix cgms/transport: {}: needs X0 > 0, solids_density > 0, D_ref >= 0, "
-               "GAB_Xm > 0, GAB_C > 1 and 0 < GAB_K < 1",
+               "Fix cgms/transport: {}: needs X0 > 0, solids_density > 0, D_ref > 0, "
+               "T_ref above absolute zero (-273.15 C), GAB_Xm > 0, GAB_C > 1 and 0 < GAB_K < 1",
                file);
 }
 
@@ -1096,6 +1100,7 @@ void FixCGMSTransport::move()
   t_product = product_temperature();
   const int nall = nlocal + atom->nghost;
   for (int n = 0; n < nall * layers; n++) dn[n] = diffusivity(xn[n], t_product);
+  check_diffusivity();
 
   const double before = water;    // the totals of the last refresh_vector
   for (int halving = 0;; halving++) {
@@ -1135,6 +1140,34 @@ void FixCGMSTransport::move()
   rate = (before - water) / (water0 - gone0) / (dt / 3600.0);
   vec[3] = rate;
   save_globals();
+}
+
+/* ----------------------------------------------------------------------
+   D_eff = D_ref Arrhenius exp(D_moisture (X/X0 - 1)) must be a positive
+   double at every node: extreme D_energy or D_moisture make it 0 or inf
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::check_diffusivity()
+{
+  int at = -1;
+  for (int n = 0; n < atom->nlocal * layers && at < 0; n++)
+    if (!(dn[n] > 0.0) || !std::isfinite(dn[n])) at = n;
+  const tagint mine = at >= 0 ? atom->tag[at / layers] : MAXTAGINT;
+  tagint bead;
+  MPI_Allreduce(&mine, &bead, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (bead == MAXTAGINT) return;
+  double local[3] = {-1.0, 0.0, 0.0}, all[3];
+  if (mine == bead) {
+    local[0] = at % layers;
+    local[1] = xn[at] / x0;
+    local[2] = dn[at];
+  }
+  MPI_Allreduce(local, all, 3, MPI_DOUBLE, MPI_MAX, world);
+  error->all(FLERR,
+             "Fix cgms/transport: the diffusivity of bead {} layer {} is {:.3g} m^2/s at X/X0 = "
+             "{:.3g} and {:.4g} C: D_ref exp(-D_energy/R (1/T - 1/T_ref)) exp(D_moisture "
+             "(X/X0 - 1)) must be a positive number; check D_energy and D_moisture in {}",
+             bead, (int) all[0] + 1, all[2], all[1], t_product, params_file);
 }
 
 /* ----------------------------------------------------------------------

@@ -132,6 +132,7 @@ class FixCGMSTransport : public Fix {
   void assemble(double);
   int solve();
   int drained(double, int);
+  void check_diffusivity();
   double sum_all(double) const;
   void totals(double &, double &, double &, double &) const;
   void refresh_vector();
