@@ -150,6 +150,10 @@ def test_dried_data_file_is_not_restarted_fresh(tmp_path):
         'print "DRIED $(f_tr[3]:%.6f)"', "write_data dried.data nocoeff"]))
     dried = next(line for line in proc.stdout.splitlines() if line.startswith("DRIED"))
     assert float(dried.split()[1]) < 0.99
+    # the loss is said where it is made: at write_data, and in the file
+    assert "data files cannot carry the tissue's moisture columns" in proc.stdout
+    assert "# fix cgms/transport tr: the moisture columns" in \
+        (tmp_path / "dried.data").read_text()
     proc = run(tmp_path, coupled("dried.data fix CGMS NULL CGMS", [
         f"fix tr all cgms/transport {ARGS} outline no every 500", "variable s atom f_tr[1]",
         "fix fluid all cgms/fluid dryness v_s every 500", "fix nve all nve",

@@ -351,6 +351,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   dynamic_group_allow = 0;
   create_attribute = 1;
   maxexchange = 5;    // the outputs and the own flag
+  wd_section = 1;     // only to say in the data file that the columns are not in it
 
   // the solver's ghost exchange: this fix's forward communication of a node array
   cg = new CGMS::ColumnCG(world, [this](double *v) {
@@ -1419,6 +1420,38 @@ int FixCGMSTransport::unpack_exchange(int nlocal, double *buf)
   own[nlocal] = (int) buf[4];
   return 5;
 }
+
+/* ----------------------------------------------------------------------
+   write_data: the columns cannot go into a data file (a row is longer than
+   the 256 characters read_data reads of a line), so no section, but a
+   warning and a comment in the file, where the loss is made
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::write_data_section_size(int, int &nx, int &ny)
+{
+  nx = 0;
+  ny = 1;
+  if (initialised && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/transport {}: data files cannot carry the tissue's moisture "
+                   "columns (read_data reads at most 256 characters of a line): a run from "
+                   "this data file starts them at X0, refused if the fluid state shows the "
+                   "tissue dried; write_restart keeps them",
+                   id);
+}
+
+void FixCGMSTransport::write_data_section_pack(int, double **) {}
+
+void FixCGMSTransport::write_data_section_keyword(int, FILE *fp)
+{
+  if (initialised)
+    fmt::print(fp,
+               "\n# fix cgms/transport {}: the moisture columns ({:.6g} s of drying, X/X0 "
+               "{:.6g}) are not in this file; a restart file carries them\n",
+               id, time, vec[2]);
+}
+
+void FixCGMSTransport::write_data_section(int, FILE *, int, double **, int) {}
 
 /* ----------------------------------------------------------------------
    restart: the rows of STATE_FIX hold the state; this record only marks the
