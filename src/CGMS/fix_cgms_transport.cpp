@@ -256,7 +256,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR,
                    "Fix cgms/transport velocity must be > 0 m/s, got {}: the air-side "
                    "coefficients come from forced convection over the slice (Sherwood number "
-                   "of a flat plate), which still air has not, and natural convection is not "
+                   "of a flat plate), which needs moving air; natural convection is not "
                    "modelled. For a slice sealed from the air use faces 0 and outline no",
                    v);
       } else if (key == "smin" && !(v > 0.0 && v <= 1.0)) {
@@ -362,8 +362,8 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
 
   FixCGMSTransport::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
-  // the beads there are now own their rows (fresh, or from a restart file, a data file
-  // or an earlier fix); beads created later do not
+  // the beads present now own their rows (fresh, or from a restart file or an earlier
+  // fix); beads created later do not
   for (int i = 0; i < atom->nlocal; i++) {
     for (int m = 0; m < 4; m++) out[i][m] = 1.0;
     own[i] = 1;
@@ -528,10 +528,10 @@ void FixCGMSTransport::setup(int)
   bind_state();
   check_state_layout();
   if (!initialised) {
-    bigint own = 0, local = 0;
+    bigint with = 0, local = 0;
     for (int i = 0; i < atom->nlocal; i++) local += has_column(i) ? 1 : 0;
-    MPI_Allreduce(&local, &own, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-    if (own == 0)
+    MPI_Allreduce(&local, &with, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    if (with == 0)
       initialise_columns();
     else
       load_globals();
@@ -587,8 +587,7 @@ void FixCGMSTransport::bind_state()
 }
 
 /* ----------------------------------------------------------------------
-   the columns the beads carry (from a restart file, a data file or an
-   earlier fix) must have been made with this fix's layers, faces and X0
+   the columns the beads carry (from a restart file or an earlier fix) must have been made with this fix's layers, faces and X0
 ------------------------------------------------------------------------- */
 
 void FixCGMSTransport::check_state_layout()
@@ -608,8 +607,8 @@ void FixCGMSTransport::check_state_layout()
     for (int k = 0; k < 3; k++) found[k] = row[bad][R_LAYERS + k];
   MPI_Allreduce(found, all, 3, MPI_DOUBLE, MPI_SUM, world);
   error->all(FLERR,
-             "Fix cgms/transport: the tissue's moisture columns (from a restart file, a data "
-             "file or an earlier fix) hold {} layers and faces {} from X0 {}; this fix has "
+             "Fix cgms/transport: the tissue's moisture columns (from a restart file or an "
+             "earlier fix) hold {} layers and faces {} from X0 {}; this fix has "
              "layers {} faces {} and X0 {} ({}): give the same (or unfix {} to start the "
              "tissue afresh at X0)",
              all[0], all[1], all[2], layers, faces, x0, params_file, STATE_FIX);
@@ -650,9 +649,9 @@ void FixCGMSTransport::check_not_dried()
   double **data = index >= 0 && flag == 1 && cols == CGMS::NDATA ? atom->darray[index] : nullptr;
   tagint dried = MAXTAGINT;
   for (int i = 0; i < atom->nlocal; i++) {
-    const bool own = cg && cg[i][CGMS::MF0] > 0.0 && cg[i][CGMS::DRYNESS] < 1.0;
+    const bool held = cg && cg[i][CGMS::MF0] > 0.0 && cg[i][CGMS::DRYNESS] < 1.0;
     const bool read = data && data[i][CGMS::MF0] > 0.0 && data[i][CGMS::DRYNESS] < 1.0;
-    if (own || read) dried = MIN(dried, atom->tag[i]);
+    if (held || read) dried = MIN(dried, atom->tag[i]);
   }
   tagint first;
   MPI_Allreduce(&dried, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
