@@ -3,12 +3,12 @@
 # see the LICENSE file in the top-level directory.
 """The state of fix cgms/transport (every bead's moisture column, the drying time, the water
 balance) under every LAMMPS mechanism that carries or changes state: re-definition, restart
-(also under another fix ID), data files (which cannot carry the columns), atom deletion and creation, sorting and migration
-between ranks; and the steps and keyword values it must refuse (doc/fix_cgms_transport.rst).
+(also under another fix ID), data files (which cannot carry the columns), atom deletion and
+creation, sorting and migration between ranks; and the steps, keyword values and parameter
+files it must refuse (doc/fix_cgms_transport.rst).
 
-Where the operations are the same as in the uninterrupted run (re-definition, restart, data
-file: the same arithmetic on the same doubles in the same order) the results must be
-bit-identical. Where the summation order changes (other ranks, sorting) they may differ by
+Where the operations are the same as in the uninterrupted run (re-definition, restart: the
+same arithmetic on the same doubles in the same order) the results must be bit-identical. Where the summation order changes (other ranks, sorting) they may differ by
 rounding only: each moisture step is solved to a relative residual of ``tolerance`` (1e-14),
 which bounds the relative error of the step's solution by that residual times the condition
 number of the column-preconditioned matrix; with Fourier numbers of order one across the
