@@ -310,7 +310,7 @@ def test_restart_continues_the_run(tmp_path):
     proc = run_lmp(two, "\n".join(head) + "\n" + script(args.replace("layers 4", "layers 5"), 2,
                                                         head=False), check=False)
     error = next((line for line in proc.stdout.splitlines() if "ERROR" in line), "")
-    assert "the restart file holds 4 layers" in error and "layers 5" in error, proc.stdout[-2000:]
+    assert "hold 4 layers" in error and "this fix has layers 5" in error, proc.stdout[-2000:]
 
 
 @pytest.mark.parametrize("fix_args, params, message", [

@@ -20,8 +20,9 @@ ColumnCG::ColumnCG(MPI_Comm world_in, std::function<void(double *)> exchange_in)
 
 /* ---------------------------------------------------------------------- */
 
-void ColumnCG::factor(const ColumnMatrix &matrix)
+int ColumnCG::factor(const ColumnMatrix &matrix)
 {
+  int singular = -1;
   m = matrix;
   const int layers = m.layers;
   piv.resize((size_t) m.nlocal * layers);
@@ -36,7 +37,10 @@ void ColumnCG::factor(const ColumnMatrix &matrix)
       mu[l - 1] = -g[l - 1] / pv[l - 1];
       pv[l] = d[l] + mu[l - 1] * g[l - 1];
     }
+    for (int l = 0; l < layers && singular < 0; l++)
+      if (!(pv[l] > SINGULAR * d[l]) || !std::isfinite(pv[l])) singular = i;
   }
+  return singular;
 }
 
 /* ---------------------------------------------------------------------- */

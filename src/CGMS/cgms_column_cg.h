@@ -40,8 +40,13 @@ namespace CGMS {
    public:
     ColumnCG(MPI_Comm world, std::function<void(double *)> exchange);
 
-    // factor the column blocks of m, which the next solve uses
-    void factor(const ColumnMatrix &m);
+    // factor the column blocks of m, which the next solve uses. Returns the
+    // first local bead whose block is singular to rounding (a pivot not above
+    // SINGULAR times its diagonal entry, or not finite), or -1.
+    int factor(const ColumnMatrix &m);
+    // the rounding of a column's elimination grows with its length: a few
+    // hundred units of 1e-16 for up to 1000 layers
+    static constexpr double SINGULAR = 1e-12;
     // solve A x = b over the local nodes; x needs room for nall * layers
     // entries (local and ghost). Returns the iterations; residual is the last
     // residual norm relative to |b| (or NaN if the iteration broke down).

@@ -9,6 +9,7 @@
 
 #include "cgms_column_cg.h"
 #include "cgms_parameter_file.h"
+#include "cgms_store.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -39,8 +40,45 @@ constexpr double M_WATER = 0.018015;     // kg/mol
 constexpr double M_AIR = 0.028965;       // kg/mol
 constexpr double KELVIN = 273.15;
 constexpr double P_ATM = 101325.0;    // Pa
-constexpr int NVECTOR = 14;
+constexpr int NVECTOR = 15;
 enum { MODE_STATE, MODE_DIRECTION, MODE_SHIFT };
+
+// the fix property/atom that holds every bead's transport state, and its array
+constexpr char STATE_FIX[] = "CGMS_TRANSPORT";
+constexpr char STATE_PROPERTY[] = "cgms_transport";
+// the columns of a bead's row there: first the run's global state, the same in
+// every row (fix property/atom holds no global values, and so restart files, data
+// files, migration, sorting and atom deletion carry it with the beads), then the
+// bead's column (X of every layer, S, A0, L0). The layout leads, so that a row of
+// another layer count still tells its layers.
+enum Row {
+  R_LAYERS,    // layout
+  R_FACES,
+  R_X0,          // X0 of the parameter file the columns started from
+  R_TIME,        // drying time (s)
+  R_WATER0,      // initial water of the tissue (kg)
+  R_OUT_FACE,    // water out through the faces and the outline (kg)
+  R_OUT_EDGE,
+  R_OUT_GONE,    // water, and initial water, of the beads deleted so far (kg)
+  R_GONE0,
+  R_WATER,    // water, dry solid and beads of the tissue at the last moisture step
+  R_SOLIDS,
+  R_BEADS,
+  R_TPRODUCT,    // product temperature of the last step (the next step's D lags on it)
+  R_DTMOVE,      // length of the next moisture step (s)
+  R_NMOVES,
+  R_RATE,
+  NHEAD
+};
+// first value of this fix's restart record (an older layout began with its layers)
+constexpr double RESTART_LAYOUT = -2.0;
+// halvings of an adaptive step that would drive a node below zero moisture
+constexpr int MAX_HALVINGS = 60;
+constexpr int MAX_LAYERS = 1000;
+// the Reynolds numbers of the flat-plate correlations: the highest of the mixed one,
+// and the lowest at which a boundary layer (Re >> 1) can still be claimed
+constexpr double RE_MAX = 1e8;
+constexpr double RE_MIN = 1.0;
 
 // a bead whose widest angular gap between neighbours exceeds this is on the outline:
 // on a hexagonal lattice an interior bead's gaps are 60 deg, a concave corner's open
@@ -88,20 +126,21 @@ void gab_activity(double x, double xm, double c, double k, double &aw, double &s
 }
 
 // share of the surface law that reaches a node through a half-cell conductance g
+// (none when neither conducts: a node at zero diffusivity behind free water)
 inline double series(double g, double alpha)
 {
-  return g / (g + alpha);
+  return g + alpha > 0.0 ? g / (g + alpha) : 0.0;
 }
 }    // namespace
 
 /* ---------------------------------------------------------------------- */
 
 FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
-    Fix(lmp, narg, arg), list(nullptr), store(nullptr), out(nullptr), nmax_bead(0), rho_s(nullptr),
-    dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr), xn(nullptr), dn(nullptr),
-    diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr), c0f(nullptr),
-    bn(nullptr), xnew(nullptr), comm_vec(nullptr), cg(nullptr), along(nullptr), shift(nullptr),
-    shift_new(nullptr)
+    Fix(lmp, narg, arg), list(nullptr), istate(-1), out(nullptr), own(nullptr), nmax_own(0),
+    nmax_bead(0), rho_s(nullptr), dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr),
+    xn(nullptr), dn(nullptr), diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr),
+    c0f(nullptr), bn(nullptr), xnew(nullptr), comm_vec(nullptr), cg(nullptr), along(nullptr),
+    shift(nullptr), shift_new(nullptr)
 {
   if (narg < 4)
     error->all(FLERR,
@@ -133,12 +172,20 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   cg_max = 2000;
   nevery = 1;
 
+  params_file = arg[3];
   read_params(arg[3]);
 
   int iarg = 4;
   auto need = [&](int n) {
     if (iarg + n >= narg)
       error->all(FLERR, "Fix cgms/transport keyword '{}' needs {} value(s)", arg[iarg], n);
+  };
+  // a number too large for a double reads as inf, and no keyword takes one
+  auto number = [&](int k) {
+    const double v = utils::numeric(FLERR, arg[k], false, lmp);
+    if (!std::isfinite(v))
+      error->all(FLERR, "Fix cgms/transport {} must be a finite number, got {}", arg[iarg], arg[k]);
+    return v;
   };
   while (iarg < narg) {
     const std::string key = arg[iarg];
@@ -149,14 +196,14 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
       iarg += 2;
     } else if (key == "dt") {
       need(1);
-      dt_move = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      dt_move = number(iarg + 1);
       if (!(dt_move > 0.0))
         error->all(FLERR, "Fix cgms/transport dt (s) must be > 0, got {}", dt_move);
       iarg += 2;
     } else if (key == "adapt") {
       need(2);
-      dx_max = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-      dt_max = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      dx_max = number(iarg + 1);
+      dt_max = number(iarg + 2);
       if (!(dx_max > 0.0) || !(dt_max > 0.0))
         error->all(FLERR, "Fix cgms/transport adapt dx_max dt_max: both must be > 0, got {} {}",
                    dx_max, dt_max);
@@ -164,7 +211,11 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     } else if (key == "layers") {
       need(1);
       layers = utils::inumeric(FLERR, arg[iarg + 1], false, lmp);
-      if (layers < 1) error->all(FLERR, "Fix cgms/transport layers must be >= 1, got {}", layers);
+      if (layers < 1 || layers > MAX_LAYERS)
+        error->all(FLERR,
+                   "Fix cgms/transport layers must be >= 1 and <= {} (finer than a cell is "
+                   "not resolved by a tissue of cells), got {}",
+                   MAX_LAYERS, layers);
       iarg += 2;
     } else if (key == "faces") {
       need(1);
@@ -188,22 +239,34 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     } else if (key == "temperature" || key == "humidity" || key == "velocity" || key == "plate" ||
                key == "thickness" || key == "cutoff" || key == "smin") {
       need(1);
-      double v = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      double v = number(iarg + 1);
       if (key == "temperature") {
-        if (v <= -20.0 || v >= 150.0)
+        if (!(v > -20.0 && v < 150.0))
           error->all(
               FLERR,
               "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}",
               v);
         t_air = v;
       } else if (key == "humidity") {
-        if (v < 0.0 || v >= 1.0)
+        if (!(v >= 0.0 && v < 1.0))
           error->all(FLERR,
                      "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}", v);
         humidity = v;
+      } else if (key == "velocity" && !(v > 0.0)) {
+        error->all(FLERR,
+                   "Fix cgms/transport velocity must be > 0 m/s, got {}: the air-side "
+                   "coefficients come from forced convection over the slice (Sherwood number "
+                   "of a flat plate), which needs moving air; natural convection is not "
+                   "modelled. For a slice sealed from the air use faces 0 and outline no",
+                   v);
+      } else if (key == "smin" && !(v > 0.0 && v <= 1.0)) {
+        error->all(FLERR,
+                   "Fix cgms/transport smin is the lowest dryness handed to the mechanics, "
+                   "0 < smin <= 1 (fix cgms/fluid takes dryness in (0, 1]), got {}",
+                   v);
       } else {
-        if (key == "smin" ? (v < 0.0 || v > 1.0) : (key == "velocity" ? v < 0.0 : !(v > 0.0)))
-          error->all(FLERR, "Fix cgms/transport {} out of range: {}", key, v);
+        if (key != "smin" && !(v > 0.0))
+          error->all(FLERR, "Fix cgms/transport {} (m) must be > 0, got {}", key, v);
         if (key == "velocity")
           velocity = v;
         else if (key == "plate")
@@ -224,10 +287,18 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
       } else if (strcmp(arg[iarg + 1], "linear") == 0) {
         need(3);
         linear_law = 1;
-        hx = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
-        xeq = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
-        if (hx < 0.0)
-          error->all(FLERR, "Fix cgms/transport surface linear: h_x must be >= 0, got {}", hx);
+        hx = number(iarg + 2);
+        xeq = number(iarg + 3);
+        if (!(hx > 0.0))
+          error->all(FLERR,
+                     "Fix cgms/transport surface linear: h_x must be > 0 kg/(m^2 s), got {} "
+                     "(for a slice sealed from the air use faces 0 and outline no)",
+                     hx);
+        if (!(xeq >= 0.0))
+          error->all(FLERR,
+                     "Fix cgms/transport surface linear: X_eq is the equilibrium dry-basis "
+                     "moisture (kg water per kg dry solid) and must be >= 0, got {}",
+                     xeq);
         iarg += 4;
       } else
         error->all(FLERR,
@@ -235,7 +306,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
                    arg[iarg + 1]);
     } else if (key == "tolerance") {
       need(1);
-      cg_tol = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      cg_tol = number(iarg + 1);
       if (!(cg_tol > 0.0 && cg_tol < 1.0))
         error->all(FLERR, "Fix cgms/transport tolerance must be in (0, 1), got {}", cg_tol);
       iarg += 2;
@@ -249,10 +320,12 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   // the linear law has no vapour pressure, so no heat balance: D at the air temperature
   if (linear_law) heat = 0;
   multiplicity = faces == 2 ? 2 : 1;
+  dt_given = dt_move;
   air_coefficients();
 
   initialised = 0;
-  time = water0 = water = out_face = out_edge = rate = 0.0;
+  time = water0 = water = solids = out_face = out_edge = out_gone = gone0 = rate = 0.0;
+  beads = 0;
   t_product = t_air;
   nmoves = 0;
   cg_iterations = 0;
@@ -263,7 +336,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   vec[10] = t_air;
   vec[11] = dt_move;
 
-  nstore = layers + 3;
+  nstore = NHEAD + layers + 3;
   vector_flag = 1;
   size_vector = NVECTOR;
   global_freq = 1;
@@ -271,11 +344,14 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   peratom_flag = 1;
   size_peratom_cols = 4;
   peratom_freq = 1;
+  // the state lives in the fix property/atom STATE_FIX; this fix's own restart
+  // record only tells which layout wrote the file
   restart_global = 1;
-  restart_peratom = 1;
   comm_forward = layers + 2;
   dynamic_group_allow = 0;
   create_attribute = 1;
+  maxexchange = 5;    // the outputs and the own flag
+  wd_section = 1;     // only to say in the data file that the columns are not in it
 
   // the solver's ghost exchange: this fix's forward communication of a node array
   cg = new CGMS::ColumnCG(world, [this](double *v) {
@@ -286,23 +362,41 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
 
   FixCGMSTransport::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
-  atom->add_callback(Atom::RESTART);
+  // the beads present now own their rows (fresh, or from a restart file or an earlier
+  // fix); beads created later do not
   for (int i = 0; i < atom->nlocal; i++) {
-    for (int m = 0; m < nstore; m++) store[i][m] = 0.0;
-    set_output(i);
+    for (int m = 0; m < 4; m++) out[i][m] = 1.0;
+    own[i] = 1;
   }
+}
+
+/* ----------------------------------------------------------------------
+   the state store: a fix property/atom with a fixed ID, made by the first
+   transport fix and kept when this fix is replaced or deleted, so that the
+   tissue's moisture travels with its beads as its fluid state does (sorting,
+   migration, deletion, restart files under any ID of this fix). After
+   read_restart, defining it again (here) restores its rows. It stays out of
+   data files: read_data reads at most 256 characters of a line, fewer than a
+   row of full-precision values (check_not_dried guards that gap).
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::post_constructor()
+{
+  if (!modify->get_fix_by_id(STATE_FIX))
+    modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata no", STATE_FIX,
+                                STATE_PROPERTY, nstore));
+  bind_state();
+  check_state_layout();
+  for (int i = 0; i < atom->nlocal; i++) set_output(i);
 }
 
 /* ---------------------------------------------------------------------- */
 
 FixCGMSTransport::~FixCGMSTransport()
 {
-  if (modify->get_fix_by_id(id)) {
-    atom->delete_callback(id, Atom::GROW);
-    atom->delete_callback(id, Atom::RESTART);
-  }
-  memory->destroy(store);
+  if (modify->get_fix_by_id(id)) atom->delete_callback(id, Atom::GROW);
   memory->destroy(out);
+  memory->destroy(own);
   for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &diag, &lower, &c1, &c0, &c1f,
                      &c0f, &bn, &xnew})
     memory->destroy(*p);
@@ -343,18 +437,21 @@ void FixCGMSTransport::read_params(const char *file)
     if (k == n) error->all(FLERR, "{} line {}: unknown parameter '{}'", where, p.line, p.name);
     if (!utils::is_double(p.value))
       error->all(FLERR, "{} line {}: '{}' is not a number", where, p.line, p.value);
-    *targets[k] = std::stod(p.value);
+    // strtod, not stod: a value beyond a double is inf, refused below, not an exception
+    *targets[k] = strtod(p.value.c_str(), nullptr);
+    if (!std::isfinite(*targets[k]))
+      error->all(FLERR, "{} line {}: {} = {} is beyond a double", where, p.line, p.name, p.value);
     given |= 1 << k;
   }
   std::string missing;
   for (int k = 0; k < n; k++)
     if (!(given & (1 << k))) missing += std::string(missing.empty() ? "" : ", ") + names[k];
   if (!missing.empty()) error->all(FLERR, "{} misses {}", where, missing);
-  if (!(x0 > 0.0) || !(solids_density > 0.0) || d_ref < 0.0 || !(gab_xm > 0.0) || !(gab_c > 1.0) ||
-      !(gab_k > 0.0 && gab_k < 1.0))
+  if (!(x0 > 0.0) || !(solids_density > 0.0) || !(d_ref > 0.0) || !(t_ref > -KELVIN) ||
+      !(gab_xm > 0.0) || !(gab_c > 1.0) || !(gab_k > 0.0 && gab_k < 1.0))
     error->all(FLERR,
-               "Fix cgms/transport: {}: needs X0 > 0, solids_density > 0, D_ref >= 0, "
-               "GAB_Xm > 0, GAB_C > 1 and 0 < GAB_K < 1",
+               "Fix cgms/transport: {}: needs X0 > 0, solids_density > 0, D_ref > 0, "
+               "T_ref above absolute zero (-273.15 C), GAB_Xm > 0, GAB_C > 1 and 0 < GAB_K < 1",
                file);
 }
 
@@ -375,6 +472,13 @@ void FixCGMSTransport::air_coefficients()
   const double nu = mu / rho;
   const double pr = mu * cp / k, sc = nu / dva;
   const double re = velocity * plate / nu;
+  if (re > RE_MAX || re < RE_MIN)
+    error->all(FLERR,
+               "Fix cgms/transport: air at {} m/s over a plate of {} m has a Reynolds number of "
+               "{:.3g}, outside {:g} to {:g}, the range of the flat-plate boundary-layer "
+               "Sherwood correlations (Incropera et al. 2007, eqs. 7.30 and 7.38; a boundary "
+               "layer needs Re >> 1): give another velocity or plate",
+               velocity, plate, re, RE_MIN, RE_MAX);
   const double sh = re < 5e5 ? 0.664 * sqrt(re) * cbrt(sc)
                              : (0.037 * pow(re, 0.8) - 871.0) * cbrt(sc);
   kc = sh * dva / plate;
@@ -399,6 +503,14 @@ void FixCGMSTransport::init()
                cutoff, ghost);
   auto req = neighbor->add_request(this, NeighConst::REQ_FULL | NeighConst::REQ_OCCASIONAL);
   if (cutoff_user > 0.0) req->set_cutoff(cutoff_user + neighbor->skin);
+
+  bind_state();
+  if (!initialised) {
+    int local = 0, any;
+    for (int i = 0; i < atom->nlocal && !local; i++) local = has_column(i) ? 1 : 0;
+    MPI_Allreduce(&local, &any, 1, MPI_INT, MPI_MAX, world);
+    if (!any) check_not_dried();
+  }
 }
 
 void FixCGMSTransport::init_list(int, NeighList *ptr)
@@ -413,25 +525,240 @@ void FixCGMSTransport::init_list(int, NeighList *ptr)
 
 void FixCGMSTransport::setup(int)
 {
+  bind_state();
+  check_state_layout();
   if (!initialised) {
-    initialise_columns();
+    bigint with = 0, local = 0;
+    for (int i = 0; i < atom->nlocal; i++) local += has_column(i) ? 1 : 0;
+    MPI_Allreduce(&local, &with, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    if (with == 0)
+      initialise_columns();
+    else
+      load_globals();
     initialised = 1;
   }
+  check_columns();
+  account_removed();
+  for (int i = 0; i < atom->nlocal; i++) set_output(i);
   refresh_vector();
+  save_globals();
+}
+
+/* ----------------------------------------------------------------------
+   the rows of the state store, and bead i's column in them
+------------------------------------------------------------------------- */
+
+double **FixCGMSTransport::rows() const
+{
+  return atom->darray[istate];
+}
+
+double *FixCGMSTransport::column(int i) const
+{
+  return atom->darray[istate][i] + NHEAD;
+}
+
+// the row is this bead's own: a bead created later may find the row of a deleted
+// one in its slot, so the fix marks the beads it knows (own)
+bool FixCGMSTransport::has_column(int i) const
+{
+  return own[i] && atom->darray[istate][i][NHEAD + layers] > 0.0;
+}
+
+void FixCGMSTransport::bind_state()
+{
+  Fix *holder = modify->get_fix_by_id(STATE_FIX);
+  if (!holder || strcmp(holder->style, "property/atom") != 0)
+    error->all(FLERR,
+               "Fix cgms/transport keeps the moisture columns in fix {} (property/atom), "
+               "which {}; unfix {} and define this fix again",
+               STATE_FIX, holder ? "has another style" : "was deleted", id);
+  int flag, cols;
+  istate = atom->find_custom(STATE_PROPERTY, flag, cols);
+  if (istate < 0 || flag != 1 || cols < 0)
+    error->all(FLERR, "Fix cgms/transport: fix {} must hold the per-atom array d2_{}", STATE_FIX,
+               STATE_PROPERTY);
+  if (cols != nstore)
+    error->all(FLERR,
+               "Fix cgms/transport: fix {} holds the tissue's moisture columns with {} values "
+               "per bead, the state of {} layers; this fix has layers {}: give layers {} (or "
+               "unfix {} to start the tissue afresh at X0)",
+               STATE_FIX, cols, cols - NHEAD - 3, layers, cols - NHEAD - 3, STATE_FIX);
+}
+
+/* ----------------------------------------------------------------------
+   the columns the beads carry (from a restart file or an earlier fix) must have been made with this fix's layers, faces and X0
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::check_state_layout()
+{
+  double **row = rows();
+  int bad = -1;
+  for (int i = 0; i < atom->nlocal && bad < 0; i++) {
+    if (!(row[i][NHEAD + layers] > 0.0)) continue;
+    if (row[i][R_LAYERS] != layers || row[i][R_FACES] != faces || row[i][R_X0] != x0) bad = i;
+  }
+  const tagint mine = bad >= 0 ? atom->tag[bad] : MAXTAGINT;
+  tagint first;
+  MPI_Allreduce(&mine, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first == MAXTAGINT) return;
+  double found[3] = {0.0, 0.0, 0.0}, all[3];
+  if (bad >= 0 && atom->tag[bad] == first)
+    for (int k = 0; k < 3; k++) found[k] = row[bad][R_LAYERS + k];
+  MPI_Allreduce(found, all, 3, MPI_DOUBLE, MPI_SUM, world);
+  error->all(FLERR,
+             "Fix cgms/transport: the tissue's moisture columns (from a restart file or an "
+             "earlier fix) hold {} layers and faces {} from X0 {}; this fix has "
+             "layers {} faces {} and X0 {} ({}): give the same (or unfix {} to start the "
+             "tissue afresh at X0)",
+             all[0], all[1], all[2], layers, faces, x0, params_file, STATE_FIX);
+}
+
+/* ----------------------------------------------------------------------
+   every bead has its own column once the tissue's columns exist
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::check_columns()
+{
+  tagint bare = MAXTAGINT, first;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (!has_column(i)) bare = MIN(bare, atom->tag[i]);
+  MPI_Allreduce(&bare, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first != MAXTAGINT)
+    error->all(FLERR,
+               "Fix cgms/transport: bead {} has no moisture column: it was added after the "
+               "tissue's columns were set up (create_atoms, fix deposit, read_data add). "
+               "Create every bead before the first run of fix cgms/transport, or delete the "
+               "new ones",
+               first);
+}
+
+/* ----------------------------------------------------------------------
+   a tissue without columns starts at X0; refuse that for one the fluid state
+   shows dried (its dryness below 1, e.g. from a data file, which cannot carry
+   the columns), which would silently undo its drying. Checked at init, before
+   fix cgms/fluid takes the dryness of this fix's (fresh) output.
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::check_not_dried()
+{
+  if (!utils::strmatch(atom->atom_style, "^cgms")) return;
+  double **cg = CGMS::bead_array(lmp);
+  int flag, cols;
+  const int index = atom->find_custom(CGMS::DATA_PROPERTY, flag, cols);
+  double **data = index >= 0 && flag == 1 && cols == CGMS::NDATA ? atom->darray[index] : nullptr;
+  tagint dried = MAXTAGINT;
+  for (int i = 0; i < atom->nlocal; i++) {
+    const bool held = cg && cg[i][CGMS::MF0] > 0.0 && cg[i][CGMS::DRYNESS] < 1.0;
+    const bool read = data && data[i][CGMS::MF0] > 0.0 && data[i][CGMS::DRYNESS] < 1.0;
+    if (held || read) dried = MIN(dried, atom->tag[i]);
+  }
+  tagint first;
+  MPI_Allreduce(&dried, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first != MAXTAGINT)
+    error->all(FLERR,
+               "Fix cgms/transport: bead {} has a dryness below 1 (a dried tissue) but the "
+               "tissue has no moisture columns: starting them at X0 would undo its drying. "
+               "Data files cannot carry the columns (read_data reads at most 256 characters "
+               "of a line); continue a dried tissue from a restart file (write_restart, "
+               "read_restart). To start drying a tissue held at a lower dryness, give it "
+               "dryness 1 first",
+               first);
+}
+
+/* ----------------------------------------------------------------------
+   the global state from the rows (the same in every bead's row), and back
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::load_globals()
+{
+  int first = -1;
+  for (int i = 0; i < atom->nlocal && first < 0; i++)
+    if (has_column(i)) first = i;
+  int mine = first >= 0 ? comm->me : comm->nprocs, root;
+  MPI_Allreduce(&mine, &root, 1, MPI_INT, MPI_MIN, world);
+  double head[NHEAD];
+  if (comm->me == root)
+    for (int k = 0; k < NHEAD; k++) head[k] = rows()[first][k];
+  MPI_Bcast(head, NHEAD, MPI_DOUBLE, root, world);
+  time = head[R_TIME];
+  water0 = head[R_WATER0];
+  out_face = head[R_OUT_FACE];
+  out_edge = head[R_OUT_EDGE];
+  out_gone = head[R_OUT_GONE];
+  gone0 = head[R_GONE0];
+  water = head[R_WATER];
+  solids = head[R_SOLIDS];
+  beads = (bigint) head[R_BEADS];
+  t_product = head[R_TPRODUCT];
+  // an adaptive step continues at its length; a fixed one is the dt keyword
+  dt_move = dx_max > 0.0 ? MIN(head[R_DTMOVE], dt_max) : dt_given;
+  nmoves = (bigint) head[R_NMOVES];
+  rate = head[R_RATE];
+}
+
+void FixCGMSTransport::save_globals()
+{
+  double head[NHEAD];
+  head[R_LAYERS] = layers;
+  head[R_FACES] = faces;
+  head[R_X0] = x0;
+  head[R_TIME] = time;
+  head[R_WATER0] = water0;
+  head[R_OUT_FACE] = out_face;
+  head[R_OUT_EDGE] = out_edge;
+  head[R_OUT_GONE] = out_gone;
+  head[R_GONE0] = gone0;
+  head[R_WATER] = water;
+  head[R_SOLIDS] = solids;
+  head[R_BEADS] = (double) beads;
+  head[R_TPRODUCT] = t_product;
+  head[R_DTMOVE] = dt_move;
+  head[R_NMOVES] = (double) nmoves;
+  head[R_RATE] = rate;
+  double **row = rows();
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < NHEAD; k++) row[i][k] = head[k];
+}
+
+/* ----------------------------------------------------------------------
+   beads deleted since the last moisture step (delete_atoms, lost atoms) took
+   their water out of the tissue: it leaves the balance as output 15, and the
+   tissue's X/X0 is over the initial water of the beads that remain
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::account_removed()
+{
+  if (atom->natoms == beads) return;
+  double w, surf, core, s;
+  totals(w, surf, core, s);
+  const double gone = water - w;
+  out_gone += gone;
+  gone0 += x0 * (solids - s);
+  if (comm->me == 0)
+    utils::logmesg(lmp,
+                   "Fix cgms/transport {}: {} beads deleted took {:.6g} kg of water out of the "
+                   "tissue (output 15)\n",
+                   id, beads - atom->natoms, gone);
+  water = w;
+  solids = s;
+  beads = atom->natoms;
 }
 
 void FixCGMSTransport::initialise_columns()
 {
   geometry();
   for (int i = 0; i < atom->nlocal; i++) {
-    store[i][layers] = solids_density * area[i] * thickness;
-    store[i][layers + 1] = area[i];
-    store[i][layers + 2] = thickness;
-    for (int l = 0; l < layers; l++) store[i][l] = x0;
-    set_output(i);
+    own[i] = 1;
+    column(i)[layers] = solids_density * area[i] * thickness;
+    column(i)[layers + 1] = area[i];
+    column(i)[layers + 2] = thickness;
+    for (int l = 0; l < layers; l++) column(i)[l] = x0;
   }
   double surf, core;
-  totals(water0, surf, core);
+  totals(water0, surf, core, solids);
+  water = water0;
+  beads = atom->natoms;
   t_product = t_air;
   geometry();
   t_product = product_temperature();
@@ -448,17 +775,17 @@ void FixCGMSTransport::end_of_step()
 
 void FixCGMSTransport::set_output(int i)
 {
-  if (store[i][layers] <= 0.0) {
+  if (!has_column(i)) {
     for (int m = 0; m < 4; m++) out[i][m] = 1.0;
     return;
   }
   double mean = 0.0;
-  for (int l = 0; l < layers; l++) mean += store[i][l];
+  for (int l = 0; l < layers; l++) mean += column(i)[l];
   mean /= layers;
   out[i][1] = mean / x0;
   out[i][0] = MIN(1.0, MAX(s_min, out[i][1]));
-  out[i][2] = store[i][0] / x0;
-  out[i][3] = store[i][layers - 1] / x0;
+  out[i][2] = column(i)[0] / x0;
+  out[i][3] = column(i)[layers - 1] / x0;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -470,21 +797,23 @@ double FixCGMSTransport::sum_all(double v) const
   return all;
 }
 
-// water in the tissue (kg, whole columns) and the solids-weighted surface and core X/X0
-void FixCGMSTransport::totals(double &w, double &surf, double &core) const
+// water in the tissue (kg, whole columns), the solids-weighted surface and core X/X0,
+// and the dry solid (kg)
+void FixCGMSTransport::totals(double &w, double &surf, double &core, double &dry) const
 {
   double local[4] = {0.0, 0.0, 0.0, 0.0}, all[4];
   for (int i = 0; i < atom->nlocal; i++) {
-    const double s = store[i][layers];
+    const double s = column(i)[layers];
     double col = 0.0;
-    for (int l = 0; l < layers; l++) col += store[i][l];
+    for (int l = 0; l < layers; l++) col += column(i)[l];
     local[0] += s / layers * col;
-    local[1] += s * store[i][0];
-    local[2] += s * store[i][layers - 1];
+    local[1] += s * column(i)[0];
+    local[2] += s * column(i)[layers - 1];
     local[3] += s;
   }
   MPI_Allreduce(local, all, 4, MPI_DOUBLE, MPI_SUM, world);
   w = all[0];
+  dry = all[3];
   surf = all[3] > 0.0 ? all[1] / all[3] / x0 : 1.0;
   core = all[3] > 0.0 ? all[2] / all[3] / x0 : 1.0;
 }
@@ -493,16 +822,19 @@ void FixCGMSTransport::totals(double &w, double &surf, double &core) const
 void FixCGMSTransport::refresh_vector()
 {
   double surf, core;
-  totals(water, surf, core);
+  totals(water, surf, core, solids);
+  beads = atom->natoms;
   const double w = water;
   const double w0 = water0 > 0.0 ? water0 : w;
+  // the initial water of the beads that remain (all of it unless some were deleted)
+  const double w0_here = w0 - gone0;
   vec[0] = time;
   vec[1] = time / 3600.0;
-  vec[2] = w0 > 0.0 ? w / w0 : 1.0;
+  vec[2] = w0_here > 0.0 ? w / w0_here : 1.0;
   vec[3] = rate;
   vec[4] = out_face;
   vec[5] = out_edge;
-  vec[6] = w0 > 0.0 ? (w0 - w - out_face - out_edge) / w0 : 0.0;
+  vec[6] = w0 > 0.0 ? (w0 - w - out_face - out_edge - out_gone) / w0 : 0.0;
   vec[7] = surf;
   vec[8] = core;
   vec[9] = core - surf;
@@ -510,6 +842,7 @@ void FixCGMSTransport::refresh_vector()
   vec[11] = dt_move;
   vec[12] = cg_iterations;
   vec[13] = (double) nmoves;
+  vec[14] = out_gone;
 }
 
 double FixCGMSTransport::compute_vector(int n)
@@ -604,27 +937,19 @@ void FixCGMSTransport::geometry()
                "moisture cannot move in or out of it (a tissue that came apart, or set cutoff)",
                first, cutoff);
 
-  tagint bare = MAXTAGINT;
-  for (int i = 0; i < nlocal; i++)
-    if (initialised && !(store[i][layers] > 0.0)) bare = MIN(bare, atom->tag[i]);
-  MPI_Allreduce(&bare, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
-  if (first != MAXTAGINT)
-    error->all(FLERR,
-               "Fix cgms/transport: bead {} has no moisture column: it was created after the "
-               "fix's first run, or the fix was defined with another ID than the one in the "
-               "restart file",
-               first);
+  // before the columns exist (first setup) only the area is needed
+  if (initialised) check_columns();
 
   outline_edges();
 
   for (int i = 0; i < nlocal; i++) {
-    const double s = store[i][layers];
-    const double thick = shrink ? store[i][layers + 2] * sqrt(area[i] / store[i][layers + 1])
-                                : store[i][layers + 2];
+    const double s = column(i)[layers];
+    const double thick = shrink ? column(i)[layers + 2] * sqrt(area[i] / column(i)[layers + 1])
+                                : column(i)[layers + 2];
     // before the columns exist (first setup) only the area is needed
     rho_s[i] = s > 0.0 ? s / (area[i] * thick) : 0.0;
     dz[i] = thick / multiplicity / layers;
-    for (int l = 0; l < layers; l++) xn[i * layers + l] = store[i][l];
+    for (int l = 0; l < layers; l++) xn[i * layers + l] = column(i)[l];
   }
   comm_mode = MODE_STATE;
   comm->forward_comm(this, layers + 2);
@@ -768,16 +1093,22 @@ double FixCGMSTransport::product_temperature()
 
 void FixCGMSTransport::move()
 {
+  account_removed();
   const int nlocal = atom->nlocal;
-  const double dt = dt_move;
+  double dt = dt_move;
   geometry();
   t_product = product_temperature();
   const int nall = nlocal + atom->nghost;
   for (int n = 0; n < nall * layers; n++) dn[n] = diffusivity(xn[n], t_product);
+  check_diffusivity();
 
   const double before = water;    // the totals of the last refresh_vector
-  assemble(dt);
-  cg_iterations = solve();
+  for (int halving = 0;; halving++) {
+    assemble(dt);
+    cg_iterations = solve();
+    if (!drained(dt, halving)) break;
+    dt *= 0.5;
+  }
 
   double local[3] = {0.0, 0.0, 0.0}, all[3];
   for (int n = 0; n < nlocal * layers; n++) {
@@ -792,15 +1123,92 @@ void FixCGMSTransport::move()
   out_edge += multiplicity * dt * (all[0] - all[1]);
 
   for (int i = 0; i < nlocal; i++) {
-    for (int l = 0; l < layers; l++) store[i][l] = xnew[i * layers + l];
+    for (int l = 0; l < layers; l++) column(i)[l] = xnew[i * layers + l];
     set_output(i);
   }
   time += dt;
   nmoves++;
-  if (dx_max > 0.0) dt_move = MIN(dt_max, dt * MIN(2.0, dx_max / MAX(change, 1e-12)));
+  if (dx_max > 0.0) {
+    dt_move = MIN(dt_max, dt * MIN(2.0, dx_max / MAX(change, 1e-12)));
+    if (!std::isnormal(dt_move))
+      error->all(FLERR,
+                 "Fix cgms/transport: the adaptive moisture step shrank to {:.3g} s: a change of "
+                 "X/X0 of dx_max = {:g} per step is below what a step resolves (keyword adapt)",
+                 dt_move, dx_max);
+  }
   refresh_vector();
-  rate = (before - water) / water0 / (dt / 3600.0);
+  rate = (before - water) / (water0 - gone0) / (dt / 3600.0);
   vec[3] = rate;
+  save_globals();
+}
+
+/* ----------------------------------------------------------------------
+   D_eff = D_ref Arrhenius exp(D_moisture (X/X0 - 1)) must be a positive
+   double at every node: extreme D_energy or D_moisture make it 0 or inf
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::check_diffusivity()
+{
+  int at = -1;
+  for (int n = 0; n < atom->nlocal * layers && at < 0; n++)
+    if (!(dn[n] > 0.0) || !std::isfinite(dn[n])) at = n;
+  const tagint mine = at >= 0 ? atom->tag[at / layers] : MAXTAGINT;
+  tagint bead;
+  MPI_Allreduce(&mine, &bead, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (bead == MAXTAGINT) return;
+  double local[3] = {-1.0, 0.0, 0.0}, all[3];
+  if (mine == bead) {
+    local[0] = at % layers;
+    local[1] = xn[at] / x0;
+    local[2] = dn[at];
+  }
+  MPI_Allreduce(local, all, 3, MPI_DOUBLE, MPI_MAX, world);
+  error->all(FLERR,
+             "Fix cgms/transport: the diffusivity of bead {} layer {} is {:.3g} m^2/s at X/X0 = "
+             "{:.3g} and {:.4g} C: D_ref exp(-D_energy/R (1/T - 1/T_ref)) exp(D_moisture "
+             "(X/X0 - 1)) must be a positive number; check D_energy and D_moisture in {}",
+             bead, (int) all[0] + 1, all[2], all[1], t_product, params_file);
+}
+
+/* ----------------------------------------------------------------------
+   the step's solution drives a node below zero moisture: the surface law is
+   linearised at the start of the step, and at free water (a_w = 1) it is a
+   constant evaporation, which a long step carries past the water the node
+   holds. An adaptive step is halved (returns 1); a fixed one is refused.
+------------------------------------------------------------------------- */
+
+int FixCGMSTransport::drained(double dt, int halving)
+{
+  const int nn = atom->nlocal * layers;
+  double low = 0.0, all;
+  int at = -1;
+  for (int n = 0; n < nn; n++)
+    if (xnew[n] < low) {
+      low = xnew[n];
+      at = n;
+    }
+  MPI_Allreduce(&low, &all, 1, MPI_DOUBLE, MPI_MIN, world);
+  if (all >= 0.0) return 0;
+  if (dx_max > 0.0 && halving < MAX_HALVINGS) return 1;
+  // name the bead and layer of the lowest node
+  tagint mine = (at >= 0 && low == all) ? atom->tag[at / layers] : MAXTAGINT, bead;
+  MPI_Allreduce(&mine, &bead, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  int layer = (mine == bead && at >= 0) ? at % layers : -1, where;
+  MPI_Allreduce(&layer, &where, 1, MPI_INT, MPI_MAX, world);
+  if (dx_max > 0.0)
+    error->all(FLERR,
+               "Fix cgms/transport: even halved {} times, to {:.3g} s, the moisture step drives "
+               "bead {} layer {} to X/X0 = {:.3g} < 0; the surface law or the parameters "
+               "(file {}) are out of the range this fix can step",
+               MAX_HALVINGS, dt, bead, where + 1, all / x0, params_file);
+  error->all(FLERR,
+             "Fix cgms/transport: the moisture step of {:.6g} s (keyword dt) drives bead {} "
+             "layer {} to X/X0 = {:.3g} < 0. The surface law is linearised at the start of each "
+             "step, and at free water (a_w = 1) it is a constant evaporation, which a step this "
+             "long carries past the water the node holds. Give a shorter dt, or let the fix "
+             "choose its steps with 'adapt dx_max dt_max' (it halves such a step)",
+             dt, bead, where + 1, all / x0);
+  return 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -817,7 +1225,12 @@ void FixCGMSTransport::assemble(double dt)
   const double root3 = sqrt(3.0);
   pair_g.assign(pair_j.size() * layers, 0.0);
   for (int i = 0; i < nlocal; i++) {
-    const double mass = store[i][layers] / multiplicity / layers;
+    const double mass = column(i)[layers] / multiplicity / layers;
+    if (!std::isfinite(mass / dt))
+      error->one(FLERR,
+                 "Fix cgms/transport: a moisture step of {:.3g} s is too short to hold the "
+                 "water of bead {} (its storage mass / dt overflows): give a longer dt",
+                 dt, atom->tag[i]);
     double *const d = &dn[i * layers];
     for (int l = 0; l < layers; l++) {
       const int n = i * layers + l;
@@ -875,7 +1288,24 @@ void FixCGMSTransport::assemble(double dt)
   matrix.pair_start = pair_start.data();
   matrix.pair_j = pair_j.data();
   matrix.pair_g = inplane ? pair_g.data() : nullptr;
-  cg->factor(matrix);
+  const int singular = cg->factor(matrix);
+  tagint mine = singular >= 0 ? atom->tag[singular] : MAXTAGINT, bead;
+  MPI_Allreduce(&mine, &bead, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (bead == MAXTAGINT) return;
+  // the Fourier number of a layer: its coupling over its storage
+  double local[2] = {0.0, 0.0}, all[2];
+  if (mine == bead) {
+    local[0] = dz[singular];
+    local[1] = dn[singular * layers] * dt / (dz[singular] * dz[singular]);
+  }
+  MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_MAX, world);
+  error->all(FLERR,
+             "Fix cgms/transport: the moisture equations of bead {} are singular to rounding: "
+             "over a step of {:.6g} s its layers, {:.3g} m deep (thickness {:.3g} m over {} "
+             "layers), couple {:.3g} times more strongly than they store water (D dt / dz^2). "
+             "Give a thicker slice (keyword thickness), fewer layers, or a shorter step (dt, "
+             "adapt)",
+             bead, dt, all[0], thickness, layers, all[1]);
 }
 
 /* ----------------------------------------------------------------------
@@ -889,7 +1319,13 @@ int FixCGMSTransport::solve()
   double residual;
   const int it = cg->solve(bn, xnew, atom->nlocal + atom->nghost, cg_tol, cg_max, residual);
   if (residual <= cg_tol) return it;
-  // also a residual that is not a number: never hand on a NaN moisture field
+  if (!std::isfinite(residual))
+    error->all(FLERR,
+               "Fix cgms/transport: the moisture step's conjugate gradients broke down after {} "
+               "iterations (a residual that is not a number): the system is not positive "
+               "definite to rounding; check the parameter file and the keywords thickness, "
+               "layers and dt",
+               it);
   if (!(residual <= 1e-8))
     error->all(FLERR,
                "Fix cgms/transport: the moisture step did not converge in {} CG "
@@ -939,59 +1375,94 @@ void FixCGMSTransport::unpack_forward_comm(int n, int first, double *buf)
   }
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   the per-atom outputs travel with the beads; the state travels in the fix
+   property/atom STATE_FIX
+------------------------------------------------------------------------- */
 
 void FixCGMSTransport::grow_arrays(int nmax)
 {
-  memory->grow(store, nmax, nstore, "cgms/transport:store");
   memory->grow(out, nmax, 4, "cgms/transport:out");
+  memory->grow(own, nmax, "cgms/transport:own");
+  for (int i = nmax_own; i < nmax; i++) own[i] = 0;
+  nmax_own = nmax;
   array_atom = out;
 }
 
-void FixCGMSTransport::copy_arrays(int i, int j, int)
+// delflag: slot i is freed (delete_atoms, migration), and whatever lands there later
+// is not the bead whose row it holds
+void FixCGMSTransport::copy_arrays(int i, int j, int delflag)
 {
-  for (int m = 0; m < nstore; m++) store[j][m] = store[i][m];
   for (int m = 0; m < 4; m++) out[j][m] = out[i][m];
+  own[j] = own[i];
+  if (delflag) own[i] = 0;
 }
 
-// a bead created after the fix: no column (an error at the next moisture step)
+// a bead created during a run (fix deposit, fix pour): no column of its own, an
+// ERROR at the next moisture step
 void FixCGMSTransport::set_arrays(int i)
 {
-  for (int m = 0; m < nstore; m++) store[i][m] = 0.0;
-  set_output(i);
+  for (int m = 0; m < 4; m++) out[i][m] = 1.0;
+  own[i] = 0;
 }
 
 int FixCGMSTransport::pack_exchange(int i, double *buf)
 {
-  for (int m = 0; m < nstore; m++) buf[m] = store[i][m];
-  return nstore;
+  for (int m = 0; m < 4; m++) buf[m] = out[i][m];
+  buf[4] = own[i];
+  return 5;
 }
 
 int FixCGMSTransport::unpack_exchange(int nlocal, double *buf)
 {
-  for (int m = 0; m < nstore; m++) store[nlocal][m] = buf[m];
-  set_output(nlocal);
-  return nstore;
+  for (int m = 0; m < 4; m++) out[nlocal][m] = buf[m];
+  own[nlocal] = (int) buf[4];
+  return 5;
 }
 
 /* ----------------------------------------------------------------------
-   restart: the run's state (global) and every bead's column (per atom)
+   write_data: the columns cannot go into a data file (a row is longer than
+   the 256 characters read_data reads of a line), so no section, but a
+   warning and a comment in the file, where the loss is made
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::write_data_section_size(int, int &nx, int &ny)
+{
+  nx = 0;
+  ny = 1;
+  if (initialised && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/transport {}: data files cannot carry the tissue's moisture "
+                   "columns (read_data reads at most 256 characters of a line): a run from "
+                   "this data file starts them at X0, refused if the fluid state shows the "
+                   "tissue dried; write_restart keeps them",
+                   id);
+}
+
+void FixCGMSTransport::write_data_section_pack(int, double **) {}
+
+void FixCGMSTransport::write_data_section_keyword(int, FILE *fp)
+{
+  if (initialised)
+    fmt::print(fp,
+               "\n# fix cgms/transport {}: the moisture columns ({:.6g} s of drying, X/X0 "
+               "{:.6g}) are not in this file; a restart file carries them\n",
+               id, time, vec[2]);
+}
+
+void FixCGMSTransport::write_data_section(int, FILE *, int, double **, int) {}
+
+/* ----------------------------------------------------------------------
+   restart: the rows of STATE_FIX hold the state; this record only marks the
+   layout, so that a file of an older CGMS (which kept the columns under this
+   fix's ID, the first value its layer count) is refused rather than
+   silently started afresh
 ------------------------------------------------------------------------- */
 
 void FixCGMSTransport::write_restart(FILE *fp)
 {
   if (comm->me != 0) return;
-  double list_out[11] = {(double) layers,
-                         (double) faces,
-                         time,
-                         water0,
-                         out_face,
-                         out_edge,
-                         rate,
-                         t_product,
-                         dt_move,
-                         (double) nmoves,
-                         (double) initialised};
+  double list_out[3] = {RESTART_LAYOUT, (double) layers, (double) faces};
   int size = sizeof(list_out);
   fwrite(&size, sizeof(int), 1, fp);
   fwrite(list_out, sizeof(list_out), 1, fp);
@@ -1000,47 +1471,12 @@ void FixCGMSTransport::write_restart(FILE *fp)
 void FixCGMSTransport::restart(char *buf)
 {
   auto *list_in = (double *) buf;
-  if ((int) list_in[0] != layers || (int) list_in[1] != faces)
+  if (list_in[0] != RESTART_LAYOUT)
     error->all(FLERR,
-               "Fix cgms/transport: the restart file holds {} layers and faces {}; this "
-               "fix has layers {} faces {}: give the same",
-               (int) list_in[0], (int) list_in[1], layers, faces);
-  time = list_in[2];
-  water0 = list_in[3];
-  out_face = list_in[4];
-  out_edge = list_in[5];
-  rate = list_in[6];
-  t_product = list_in[7];
-  dt_move = list_in[8];
-  nmoves = (bigint) list_in[9];
-  initialised = (int) list_in[10];
-}
-
-int FixCGMSTransport::pack_restart(int i, double *buf)
-{
-  buf[0] = nstore + 1;
-  for (int m = 0; m < nstore; m++) buf[m + 1] = store[i][m];
-  return nstore + 1;
-}
-
-void FixCGMSTransport::unpack_restart(int nlocal, int nth)
-{
-  double **extra = atom->extra;
-  int m = 0;
-  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
-  m++;
-  for (int k = 0; k < nstore; k++) store[nlocal][k] = extra[nlocal][m++];
-  set_output(nlocal);
-}
-
-int FixCGMSTransport::size_restart(int)
-{
-  return nstore + 1;
-}
-
-int FixCGMSTransport::maxsize_restart()
-{
-  return nstore + 1;
+               "Fix cgms/transport {}: the restart file was written by an older CGMS, which kept "
+               "the moisture columns in another form; continue that run with the CGMS that "
+               "wrote it",
+               id);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1048,7 +1484,7 @@ int FixCGMSTransport::maxsize_restart()
 double FixCGMSTransport::memory_usage()
 {
   return sizeof(double) *
-      ((double) atom->nmax * (nstore + 4) + 9.0 * nmax_bead + 14.0 * nmax_bead * layers +
+      ((double) atom->nmax * 4.5 + 9.0 * nmax_bead + 14.0 * nmax_bead * layers +
        (double) pair_g.size() + (double) pair_dist.size()) +
       sizeof(int) * ((double) pair_j.size() + pair_start.size());
 }

@@ -10,6 +10,7 @@
 
 #include "fix.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -28,6 +29,7 @@ class FixCGMSTransport : public Fix {
   FixCGMSTransport(class LAMMPS *, int, char **);
   ~FixCGMSTransport() override;
 
+  void post_constructor() override;
   int setmask() override;
   void init() override;
   void init_list(int, class NeighList *) override;
@@ -40,12 +42,12 @@ class FixCGMSTransport : public Fix {
   void set_arrays(int) override;
   int pack_exchange(int, double *) override;
   int unpack_exchange(int, double *) override;
+  void write_data_section_size(int, int &, int &) override;
+  void write_data_section_pack(int, double **) override;
+  void write_data_section_keyword(int, FILE *) override;
+  void write_data_section(int, FILE *, int, double **, int) override;
   void write_restart(FILE *) override;
   void restart(char *) override;
-  int pack_restart(int, double *) override;
-  void unpack_restart(int, int) override;
-  int size_restart(int) override;
-  int maxsize_restart() override;
 
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
@@ -56,6 +58,7 @@ class FixCGMSTransport : public Fix {
   class NeighList *list;
 
   // parameters of the material file (python/cgms/drying.py read_params)
+  std::string params_file;
   double x0, solids_density, d_ref, t_ref, d_energy, d_moisture, gab_xm, gab_c, gab_k;
   // conditions and switches
   int layers, faces, multiplicity;
@@ -67,23 +70,31 @@ class FixCGMSTransport : public Fix {
   double cutoff, cutoff_user;
   double s_min;             // lowest dryness handed to the mechanics
   double dt_move;           // length of the next moisture step (s)
+  double dt_given;          // the dt keyword (s)
   double dx_max, dt_max;    // adaptive step (dx_max <= 0: fixed)
   double cg_tol;
   int cg_max;
 
-  // state of the run (global, in the restart file)
-  int initialised;
+  // state of the run (global; a copy rides in every bead's row of the state store)
+  int initialised;    // 1: this fix holds the tissue's state (made or taken over)
   double time, water0, out_face, out_edge, rate, t_product;
-  double water;    // water in the tissue at the last refresh_vector (kg)
+  double out_gone, gone0;    // water, and initial water, of the beads deleted so far (kg)
+  double water;              // water in the tissue at the last refresh_vector (kg)
+  double solids;             // dry solid of the tissue then (kg)
+  bigint beads;              // beads then
   bigint nmoves;
   int cg_iterations;
-  double vec[14];    // the global outputs, refreshed after every moisture step
+  double vec[15];    // the global outputs, refreshed after every moisture step
 
-  // per bead, travels with it: X of every layer, dry solid S (kg, whole column),
-  // fresh area A0 (m^2), fresh thickness L0 (m)
-  double **store;
-  int nstore;
+  // per bead, in the per-atom array of the fix property/atom STATE_FIX (it
+  // travels with the bead, into restart and data files and past this fix's
+  // re-definition): the global state, then X of every layer, dry solid S (kg,
+  // whole column), fresh area A0 (m^2), fresh thickness L0 (m)
+  int istate;      // index of that array in Atom::darray
+  int nstore;      // columns per bead: the global state, layers, S, A0, L0
   double **out;    // per-atom output: dryness, mean, surface, core X/X0
+  int *own;        // 1: the bead's row in the state store is its own
+  int nmax_own;
 
   // per bead, local and ghost, rebuilt every moisture step
   int nmax_bead;
@@ -100,6 +111,16 @@ class FixCGMSTransport : public Fix {
 
   int comm_mode;
 
+  double **rows() const;
+  double *column(int i) const;
+  bool has_column(int i) const;
+  void bind_state();
+  void check_state_layout();
+  void check_columns();
+  void check_not_dried();
+  void load_globals();
+  void save_globals();
+  void account_removed();
   void read_params(const char *);
   void air_coefficients();
   void set_output(int);
@@ -114,8 +135,10 @@ class FixCGMSTransport : public Fix {
   void move();
   void assemble(double);
   int solve();
+  int drained(double, int);
+  void check_diffusivity();
   double sum_all(double) const;
-  void totals(double &, double &, double &) const;
+  void totals(double &, double &, double &, double &) const;
   void refresh_vector();
 };
 
