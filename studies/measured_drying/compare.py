@@ -200,6 +200,26 @@ def fitted_table(out):
 
 LEVELS = (0.8, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1)
 
+# Velic et al. 2004 (secondary, reference/drying/velic2004_secondary_heat_transfer.csv):
+# 60 C, 20 x 20 x 5 mm samples; the model's heat-transfer coefficient at the CLI's default
+# plate length and at the samples' own length
+VELIC_T, VELIC_PLATES = 60.0, (0.040, 0.020)
+
+
+def air_side_table():
+    """The model's h (cgms.transport.air_coefficients) beside Velic et al.'s at 0.64 and
+    2.75 m/s."""
+    sys.path.insert(0, str(ROOT / "python"))
+    from cgms import transport
+
+    d = read_table(REF / "velic2004_secondary_heat_transfer.csv")
+    measured = dict(zip(d["quantity"], zip(d["at_0.64_m_per_s"], d["at_2.75_m_per_s"])))["h"]
+    rows = []
+    for v, h_measured in zip((0.64, 2.75), measured):
+        h_model = [transport.air_coefficients(VELIC_T, v, plate)[1] for plate in VELIC_PLATES]
+        rows.append(dict(v=v, measured=h_measured, model=h_model))
+    return rows
+
 
 def shrinkage_table(out):
     rows = []
@@ -218,7 +238,7 @@ def fmt(v, digits=2):
     return "-" if v is None else f"{v:.{digits}f}"
 
 
-def write_tables(out, curves, fitted, shrink):
+def write_tables(out, curves, fitted, shrink, air):
     lines = ["## Drying curves: predicted (measured X/X0 and model X/X0 both taken relative "
              "to the first measured time)", "",
              "| condition | kind | first-hour rate measured / model (1/h) "
@@ -260,6 +280,12 @@ def write_tables(out, curves, fitted, shrink):
               f"V/V0 {KHAMA['V']:.2f}.",
               f"Inferred from Wijerathne et al. 2019 (15-24 % above experiment at X/X0 = 0.3): "
               f"measured A/A0 at 0.3 about {lo:.2f}-{hi:.2f}."]
+    lines += ["", "## Air side: h against Velic et al. 2004 (secondary; 60 C, 20 mm samples)", "",
+              "| air velocity (m/s) | h measured (W/m^2 K) | model, 40 mm plate | "
+              "model, 20 mm plate |", "|---|---|---|---|"]
+    for r in air:
+        lines.append(f"| {r['v']:.2f} | {r['measured']:.1f} | {r['model'][0]:.1f} "
+                     f"| {r['model'][1]:.1f} |")
     text = "\n".join(lines) + "\n"
     (out / "comparison.md").write_text(text)
     with open(out / "comparison.csv", "w", newline="") as f:
@@ -361,7 +387,7 @@ def main(argv=None):
                  f"comparison needs every run ({how})")
     curves, fitted = curve_table(args.out), fitted_table(args.out)
     shrink = shrinkage_table(args.out)
-    print(write_tables(args.out, curves, fitted, shrink))
+    print(write_tables(args.out, curves, fitted, shrink, air_side_table()))
     path = args.figure or args.out / "measured-drying.png"
     figure(args.out, curves, path)
     print(f"compare.py: table {args.out / 'comparison.md'}, {args.out / 'comparison.csv'}; "
