@@ -2,8 +2,8 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """studies/measured_drying/compare.py: the measured data of reference/drying/ read as
-documented, and the curve metrics against cases whose answer is known exactly
-(doc/drying-measured.md). No LAMMPS."""
+their sources state them, and the crossing and level look-ups against cases whose answer
+is known exactly (doc/drying-measured.md). No LAMMPS."""
 
 import importlib.util
 from pathlib import Path
@@ -29,46 +29,25 @@ def test_crossing_of_a_straight_line_is_exact():
     assert compare.crossing(t, y, 1.0) is None           # reached at the first point
 
 
-def test_curve_metrics_of_a_known_offset():
-    # the "model" is the measured exponential shifted by +0.02: RMS and largest difference
-    # are 0.02 up to linear interpolation of the model between its points, whose error is
-    # at most h^2 max|f''| / 8 (h = model spacing, f'' = exp(-t) <= 1)
-    t_model = np.linspace(0.0, 8.0, 801)
-    t_data = np.linspace(0.05, 7.95, 57)
-    bound = (t_model[1] - t_model[0]) ** 2 / 8
-    m = compare.compare_curve(t_data, np.exp(-t_data), t_model, np.exp(-t_model) + 0.02)
-    assert m["rms"] == pytest.approx(0.02, abs=bound)
-    assert m["signed_at_largest"] == pytest.approx(0.02, abs=bound)
-    assert m["n"] == m["n_all"] == 57
-    # times to 0.5 and 0.1: ln 2 and ln 10 for the data (interpolated between its points:
-    # error <= h_data^2 / 8 in y, divided by the slope there), ln(1/0.48) and ln(1/0.08)
-    # for the model
-    h = t_data[1] - t_data[0]
-    assert m["t05_data"] == pytest.approx(np.log(2), abs=h ** 2 / 8 / 0.5)
-    assert m["t01_data"] == pytest.approx(np.log(10), abs=h ** 2 / 8 / 0.1)
-    assert m["t05_model"] == pytest.approx(np.log(1 / 0.48), abs=bound / 0.48)
-    assert m["t01_model"] == pytest.approx(np.log(1 / 0.08), abs=bound / 0.08)
+def test_at_level_interpolates_between_rows():
+    # X/X0 falls linearly and A/A0 = 0.5 + X/X0 / 2 along it: the value at any level
+    # between rows is 0.5 + level / 2 exactly (to rounding); a level never reached is None
+    x = np.linspace(1.0, 0.15, 18)
+    d = {"X/X0": x, "A/A0": 0.5 + x / 2}
+    for level in (0.8, 0.43, 0.3):
+        assert compare.at_level(d, level, "A/A0") == pytest.approx(0.5 + level / 2, abs=1e-12)
+    assert compare.at_level(d, 0.1, "A/A0") is None
 
 
-def test_model_shorter_than_data_is_compared_where_it_exists():
-    t = np.linspace(0.0, 10.0, 11)
-    m = compare.compare_curve(t, 1 - t / 20, np.linspace(0, 5, 6), 1 - np.linspace(0, 5, 6) / 20)
-    assert (m["n"], m["n_all"]) == (6, 11)
-    assert m["rms"] == pytest.approx(0.0, abs=1e-15)
+def test_sacilik_window_as_the_abstract_states_it():
+    # the abstract: every slice "would dry perfectly within 240-460 min"
+    assert compare.sacilik_window_h() == pytest.approx((240 / 60, 460 / 60), abs=1e-12)
 
 
-@pytest.mark.parametrize("name", ["royen-v0.85", "royen-v1.1"])
-def test_measured_curves_read_as_documented(name):
-    # reference/drying/README.md: 173 and 143 distinct rows (the 1.1 m/s file repeats its
-    # last row), starting at 4.1 and 9.9 min, X of fresh apple near 6.4 kg/kg falling to
-    # near 0.26
-    t, x = compare.read_measured(compare.RUNS[name]["data"])
-    first = {"royen-v0.85": 4.1, "royen-v1.1": 9.9}[name] / 60
-    distinct = {"royen-v0.85": 173, "royen-v1.1": 143}[name]
-    assert len(np.unique(np.column_stack([t, x]), axis=0)) == distinct
-    assert t[0] == pytest.approx(first, abs=0.1 / 60)
-    assert np.all(np.diff(t) >= 0)
-    assert 6.4 < x[0] < 6.5 and 0.25 < x[-1] < 0.30
+def test_khama_end_values_as_the_abstract_states_them():
+    # the abstract, oven drying: volume down 80 %, diameter 20 %, thickness 70 %; the
+    # face-area ratio is (1 - 0.20)^2
+    assert compare.khama_end() == pytest.approx(dict(V=0.20, L=0.30, A=0.64), abs=1e-12)
 
 
 def test_khama_end_values_are_consistent():
