@@ -66,8 +66,7 @@ def slope_method(t_h, mr, thickness, low=0.1, high=1.0):
 def two_periods(params, velocities, temperature=60.0, thickness=5e-3, humidity=0.1):
     """The model's slope-method D_eff over the wet (1 >= MR >= 0.5) and the dry
     (0.5 >= MR >= 0.1) half of its curve, at each air velocity: what a study that fits
-    two falling-rate periods separately (Velic et al. 2004: 60 C, 5 mm, 0.64-2.75 m/s)
-    would read from this model. With D constant the dry half reads larger because the
+    two falling-rate periods separately (at 60 C, 5 mm, 0.64-2.75 m/s) would read from this model. With D constant the dry half reads larger because the
     wet slice sits near the wet-bulb temperature, where D is smaller (the heat balance);
     with the product at the air temperature it reads smaller (tests/
     test_fit_diffusivity_script.py)."""
