@@ -285,6 +285,26 @@ def test_coupled_long_step_is_blamed_on_dt(tmp_path):
     assert "timestep" not in error
 
 
+def test_coupled_step_too_long_for_the_mechanics_names_dt(tmp_path):
+    """A moisture step that keeps the moisture non-negative (dt 900) but moves the dryness
+    further in one change than the mechanics' turgor force can follow stops in fix
+    cgms/fluid; its cure names the transport's step keywords, not only the MD timestep."""
+    from cgmstest import APPLE, XREF
+    tissue.write_data(tmp_path / "c.data", tissue.hex_rectangle(6, 7, XREF), 4 * XREF,
+                      overwrite=True)
+    lines = head() + ["comm_modify vel yes", "read_data c.data", "neighbor 1.5e-5 bin",
+                      "neigh_modify every 1 delay 0 check yes", "pair_style cgms",
+                      f"pair_coeff * * {APPLE}", "fix fluid all cgms/fluid dryness 1.0",
+                      "fix nve all nve", "fix 2d all enforce2d", "timestep 1e-7", "run 2000",
+                      f"fix tr all cgms/transport {PARAMS_FILE} layers 4 dt 900 outline no "
+                      "every 500", "variable s atom f_tr[1]",
+                      "fix fluid all cgms/fluid dryness v_s every 500", "run 2000"]
+    proc = run(tmp_path, lines, check=False)
+    error = first_error(proc)
+    assert "Fix cgms/fluid" in error and "change of dryness" in error, proc.stdout[-2000:]
+    assert "fix cgms/transport" in error and "dt or adapt" in error
+
+
 @pytest.mark.parametrize("fix_args, message", [
     ("velocity 0", "velocity must be > 0 m/s, got 0"),
     ("velocity -1", "velocity must be > 0 m/s, got -1"),

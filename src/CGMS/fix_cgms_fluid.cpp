@@ -1162,8 +1162,9 @@ void FixCGMSFluid::stop_if_unstable(const Trouble &t)
                "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
                "times its new reference density, and its turgor force is then above the "
                "stability limit, about {:.4g} s = 2 / omega (omega dt = {:.3g} at dt = {:.4g} "
-               "s): change the dryness in smaller steps (e.g. a ramp with 'every'), or use a "
-               "smaller timestep",
+               "s): change the dryness in smaller steps (e.g. a ramp with 'every'; when the "
+               "dryness comes from fix cgms/transport, a shorter moisture step: its keywords "
+               "dt or adapt), or use a smaller timestep",
                update->ntimestep, atom->tag[stiff],
                cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0), t.stiff_limit,
                2.0 * sqrt(t.stiff_ratio), dt);
