@@ -335,8 +335,8 @@ def positive_step(grid, x, dt, diff, law, outline):
     """:func:`cgms.transport.step` of at most ``dt``, halved until every node's moisture
     stays finite and non-negative: the surface law is linearised at the start of the
     step, and while the surface holds free water (aw = 1) it is a constant flux, which a
-    long step draws past the water the surface nodes hold (X/X0 = -12 measured at
-    dt = 600 s without heat). Returns (x, out through faces, out through the outline, the
+    long step draws past the water the surface nodes hold (measured with dx_max 1 and no
+    heat: the faces' mean X/X0 at -0.15). Returns (x, out through faces, out through the outline, the
     step taken, how often it was halved); RuntimeError after :data:`MAX_HALVINGS`."""
     for cut in range(MAX_HALVINGS + 1):
         x_new, face, edge, _ = transport.step(grid, x, dt, diff, law, outline=outline)
