@@ -223,8 +223,11 @@ def _run(args, params, mat_file, out, data, t, s_min, valid_note):
                       shrink_thickness=not args.no_shrink_thickness)
     levers = dict(layers=args.layers, dx_max=args.dx_max, resolve=args.resolve, s_min=s_min)
     levels = sorted(args.maps, reverse=True)
+    edge = "sealed (--no-outline: a window of a larger slice)" if args.no_outline else \
+        "in air (a piece; --no-outline for a window of a larger slice)"
     print(f"cgms dry: {len(xy)} beads, air {args.temperature:g} C, RH {args.humidity:g}, "
-          f"{args.velocity:g} m/s; slice {args.thickness:g} mm; results in {out}", flush=True)
+          f"{args.velocity:g} m/s; slice {args.thickness:g} mm, {args.faces} face(s) in air, "
+          f"outline {edge}; results in {out}", flush=True)
     for note in (valid_note, t.get("note")):
         if note:
             print(note, flush=True)
