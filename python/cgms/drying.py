@@ -146,6 +146,10 @@ class Mechanics:
         try:
             yield
         except Exception as err:
+            # LAMMPS raises a plain Exception (MPIAbortException under MPI); the Python
+            # solvers' own errors (cgms.solve) are not LAMMPS's and pass as they are
+            if type(err) is not Exception and not type(err).__module__.startswith("lammps"):
+                raise
             raise study.LammpsError(dryness, study._lammps_reason(err, self.log),
                                     self.log) from err
 
