@@ -124,6 +124,7 @@ class Mechanics:
         self.mat = material.with_overrides(material.read(material_file), overrides)
         self.solves = 0
         self.seconds = 0.0
+        self.dryness = 1.0      # the lowest bead dryness of the last solve
         lines = run.tissue_script(Path(data).resolve(), Path(material_file).resolve(), "v_sdry",
                                   method="quasistatic" if method == "fire" else "newton",
                                   overrides=overrides, diameters=diameters).splitlines()
@@ -162,13 +163,14 @@ class Mechanics:
     def solve(self, s, surface=None, core=None):
         """Positions (id order) of the steady state at dryness ``s`` (id order)."""
         start = time.perf_counter()
-        with self._stops(float(np.min(s))):
+        self.dryness = float(np.min(s))
+        with self._stops(self.dryness):
             self._solve(s, surface, core)
             # a minimiser or Newton ends on a folded tissue, or one in pieces, without a
             # word (cgms.run.folded; cgms study checks every level alike)
             broken = run.folded(self.lmp)
         if broken:
-            raise study.LammpsError(float(np.min(s)), broken, self.log)
+            raise study.LammpsError(self.dryness, broken, self.log)
         self.solves += 1
         self.seconds += time.perf_counter() - start
         # gathered in id order on every process (collective), so the moisture loop, which
@@ -203,8 +205,9 @@ class Mechanics:
 
     def dump(self, path):
         compute, columns, names = run.dump_columns()
-        self.lmp.command(f"write_dump all custom {path} {columns} d_xsurf d_xcore "
-                         f"modify sort id {names}")
+        with self._stops(self.dryness):
+            self.lmp.command(f"write_dump all custom {path} {columns} d_xsurf d_xcore "
+                             f"modify sort id {names}")
 
     def close(self, finalize=False):
         """Close LAMMPS; ``finalize`` also ends MPI (the last call of a script run under
