@@ -15,7 +15,7 @@ import sys
 import numpy as np
 import pytest
 
-from cgmstest import MAT, ROOT, XREF, lammps_env, require_lammps, run_cli, run_lmp
+from cgmstest import ROOT, XREF, lammps_env, require_lammps, run_cli, run_lmp
 from cgms import drying, positions, tissue
 
 NOT_A_NUMBER = re.compile(r"\b(nan|inf)\b", re.IGNORECASE)
