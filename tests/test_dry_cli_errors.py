@@ -234,8 +234,9 @@ def cli(*args, cwd, timeout):
 
 @pytest.mark.parametrize("hours", ["1e9", "inf"])
 def test_endless_hours_refused(tmp_path, hours):
-    """--hours 1e9 or inf ran until killed; now refused at once (a subprocess, so that a
-    hang fails the test by its timeout)."""
+    """--hours 1e9 or inf were accepted (with a --stop the tissue never reaches they ran
+    until killed); now refused at once (a subprocess, so that a hang fails the test by
+    its timeout)."""
     proc = cli(*SMALL, "--frozen", "--hours", hours, "--out", str(tmp_path / "o"),
                cwd=tmp_path, timeout=60)
     assert proc.returncode != 0
