@@ -76,9 +76,13 @@ def file_tissue(path, mat, cv=0.0, seed=1):
     gap = morphology.spacing(xy)
     ratio = gap / mat["x_ref"]
     if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
+        unit = next((f" (these look like {name})" for name, scale in
+                     (("micrometres", 1e6), ("millimetres", 1e3))
+                     if SPACING_RANGE[0] < ratio / scale < SPACING_RANGE[1]), "")
         raise UsageError(f"--data {path}: neighbouring beads are {gap:.4g} m apart (median), "
                          f"{ratio:.3g} times the material's cell spacing x_ref = "
-                         f"{mat['x_ref']:.4g} m: positions must be cell centres in metres")
+                         f"{mat['x_ref']:.4g} m: positions must be cell centres in "
+                         f"metres{unit}")
     if cv > 0 and given is not None:
         raise UsageError(f"--data {path} has a Diameters section: leave out --cv")
     return dict(xy=xy, ids=ids, diameters=diameters(len(xy), mat, cv, seed) if cv > 0 else given,

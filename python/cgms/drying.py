@@ -18,12 +18,14 @@ X/X0 in one moisture step; sets the step), ``layers`` (nodes across the half thi
 tolerance).
 """
 
+import math
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
-from . import material, model, morphology, run, transport
+from . import material, model, morphology, run, study, transport
 
 CONDITIONS = dict(temperature=70.0, humidity=0.1, velocity=1.5, thickness=2e-3,
                   plate_length=0.04, faces=2, outline=True, heat=True, shrink_thickness=True)
@@ -31,27 +33,64 @@ LEVERS = dict(layers=10, dx_max=0.02, dt_first=1.0, dt_max=600.0, resolve=0.02, 
               max_iterations=20000, s_min=0.3)
 
 
+#: what the transport needs of each parameter of a ``.params`` file (test, rule): a NaN,
+#: a negative moisture or density, or a GAB K of 1 or more (the isotherm's moisture is
+#: infinite at aw = 1/K) would run on into NaN or negative moisture
+PARAM_RULES = {
+    "X0": (lambda v: v > 0, "positive (kg water / kg dry solid)"),
+    "solids_density": (lambda v: v > 0, "positive (kg/m^3)"),
+    "D_ref": (lambda v: v > 0, "positive (m^2/s)"),
+    "T_ref": (lambda v: v > -transport.KELVIN, "above absolute zero (C)"),
+    "D_energy": (lambda v: v >= 0, ">= 0 (J/mol)"),
+    "D_moisture": (lambda v: True, "a number"),
+    "GAB_Xm": (lambda v: v > 0, "positive"),
+    "GAB_C": (lambda v: v > 0, "positive"),
+    "GAB_K": (lambda v: 0 < v < 1, "in (0, 1): the isotherm must stay finite up to aw = 1"),
+}
+
+
+#: the run ends when the tissue's X/X0 is this close to the equilibrium moisture of the
+#: air (:func:`equilibrium_ratio`), which it nears ever more slowly and never passes: a
+#: --stop below it is never reached (1e-3: the precision of the X/X0 the CLI prints)
+EQUILIBRIUM_GAP = 1e-3
+#: how often :func:`positive_step` halves a moisture step before it gives up (2^-60 of
+#: the step: far below any step that could matter)
+MAX_HALVINGS = 60
+
+
 def read_params(name="apple-drying"):
-    """Transport parameters of a ``potentials/*.params`` file as a dict of floats."""
+    """Transport parameters of a ``potentials/*.params`` file as a dict of floats, checked
+    against :data:`PARAM_RULES` (ValueError names the file, the line or the value)."""
     path = Path(name)
-    if not path.exists():
+    if not path.is_file():
         path = material.POTENTIALS / (name if name.endswith(".params") else f"{name}.params")
-    if not path.exists():
+    if not path.is_file():
         raise FileNotFoundError(f"drying parameter file {name!r} not found "
                                 f"(looked in {material.POTENTIALS})")
     params = {}
-    for lineno, raw in enumerate(path.read_text().splitlines(), 1):
+    try:
+        text = path.read_text()
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text file") from None
+    for lineno, raw in enumerate(text.splitlines(), 1):
         words = raw.split("#", 1)[0].split()
         if not words:
             continue
         if len(words) != 2:
             raise ValueError(f"{path} line {lineno}: expected 'name value', got {raw.strip()!r}")
-        params[words[0]] = float(words[1])
-    needed = {"X0", "solids_density", "D_ref", "T_ref", "D_energy", "D_moisture", "GAB_Xm",
-              "GAB_C", "GAB_K"}
-    missing = needed - set(params)
+        if words[0] in params:
+            raise ValueError(f"{path} line {lineno}: {words[0]} given twice")
+        try:
+            params[words[0]] = float(words[1])
+        except ValueError:
+            raise ValueError(f"{path} line {lineno}: value {words[1]!r} of {words[0]} is not "
+                             "a number") from None
+    missing = set(PARAM_RULES) - set(params)
     if missing:
         raise ValueError(f"{path}: missing {', '.join(sorted(missing))}")
+    for name, (test, rule) in PARAM_RULES.items():
+        if not (math.isfinite(params[name]) and test(params[name])):
+            raise ValueError(f"{path}: {name} = {params[name]:g} must be {rule}")
     return params
 
 
@@ -78,12 +117,14 @@ class Mechanics:
                  overrides="", diameters=False, method="fire", newton_iterations=8, first_iterations=60):
         if method not in ("fire", "newton", "newton+fire"):
             raise ValueError(f"method must be 'fire', 'newton' or 'newton+fire', not {method!r}")
+        self.log = log
         self.lmp = run.open_lammps(log=log)
         self.ftol, self.max_iterations, self.method = ftol, max_iterations, method
         self.newton_iterations, self.first_iterations = newton_iterations, first_iterations
         self.mat = material.with_overrides(material.read(material_file), overrides)
         self.solves = 0
         self.seconds = 0.0
+        self.dryness = 1.0      # the lowest bead dryness of the last solve
         lines = run.tissue_script(Path(data).resolve(), Path(material_file).resolve(), "v_sdry",
                                   method="quasistatic" if method == "fire" else "newton",
                                   overrides=overrides, diameters=diameters).splitlines()
@@ -94,8 +135,24 @@ class Mechanics:
         lines[at:at] = ["fix sdry all property/atom d_sdry d_xsurf d_xcore",
                         "variable sdry atom d_sdry"]
         lines += run.FIRE_SETTINGS
-        self.lmp.commands_string("\n".join(lines) + "\n")
+        with self._stops(1.0):
+            self.lmp.commands_string("\n".join(lines) + "\n")
         self.n = self.lmp.get_natoms()
+
+    @contextmanager
+    def _stops(self, dryness):
+        """LAMMPS's stops (a plain Exception, its message cut at about 100 characters) as
+        :class:`cgms.study.LammpsError` with LAMMPS's whole ERROR line from the log;
+        ``dryness``: the lowest bead dryness of the solve."""
+        try:
+            yield
+        except Exception as err:
+            # LAMMPS raises a plain Exception (MPIAbortException under MPI); the Python
+            # solvers' own errors (cgms.solve) are not LAMMPS's and pass as they are
+            if type(err) is not Exception and not type(err).__module__.startswith("lammps"):
+                raise
+            raise study.LammpsError(dryness, study._lammps_reason(err, self.log),
+                                    self.log) from err
 
     def _set(self, name, values):
         nlocal = self.lmp.extract_global("nlocal")
@@ -106,6 +163,22 @@ class Mechanics:
     def solve(self, s, surface=None, core=None):
         """Positions (id order) of the steady state at dryness ``s`` (id order)."""
         start = time.perf_counter()
+        self.dryness = float(np.min(s))
+        with self._stops(self.dryness):
+            self._solve(s, surface, core)
+            # a minimiser or Newton ends on a folded tissue, or one in pieces, without a
+            # word (cgms.run.folded; cgms study checks every level alike)
+            broken = run.folded(self.lmp)
+        if broken:
+            raise study.LammpsError(self.dryness, broken, self.log)
+        self.solves += 1
+        self.seconds += time.perf_counter() - start
+        # gathered in id order on every process (collective), so the moisture loop, which
+        # every process runs alike, works under mpirun too
+        x = np.ctypeslib.as_array(self.lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+        return x[:, :2].copy()
+
+    def _solve(self, s, surface, core):
         self._set("d_sdry", s)
         self._set("d_xsurf", s if surface is None else surface)
         self._set("d_xcore", s if core is None else core)
@@ -129,17 +202,12 @@ class Mechanics:
                                      self.lmp.extract_pair("cut_global"), ftol=1e-13,
                                      max_iterations=self.newton_iterations)
                 forces(xy)                          # leave LAMMPS at the solution
-        self.solves += 1
-        self.seconds += time.perf_counter() - start
-        # gathered in id order on every process (collective), so the moisture loop, which
-        # every process runs alike, works under mpirun too
-        x = np.ctypeslib.as_array(self.lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
-        return x[:, :2].copy()
 
     def dump(self, path):
         compute, columns, names = run.dump_columns()
-        self.lmp.command(f"write_dump all custom {path} {columns} d_xsurf d_xcore "
-                         f"modify sort id {names}")
+        with self._stops(self.dryness):
+            self.lmp.command(f"write_dump all custom {path} {columns} d_xsurf d_xcore "
+                             f"modify sort id {names}")
 
     def close(self, finalize=False):
         """Close LAMMPS; ``finalize`` also ends MPI (the last call of a script run under
@@ -151,7 +219,7 @@ class Mechanics:
 
 
 def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics=None,
-        snapshots=(), on_snapshot=None, transport_geometry=True):
+        snapshots=(), on_snapshot=None, transport_geometry=True, rows=None):
     """Dry the tissue whose fresh bead positions (id order) are ``xy`` for ``hours`` or
     until its X/X0 falls to ``stop``. ``mechanics``: a :class:`Mechanics` (None: the shape
     is frozen). ``snapshots``: X/X0 levels; when the tissue first reaches one,
@@ -159,7 +227,13 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
     surface and core X/X0).
     ``transport_geometry`` False keeps the transport geometry of the fresh tissue while the
     mechanics moves (an ingredient switch, and the moisture-domain check).
-    Returns dict(rows=[...], x=node moisture, grid=..., xy=positions, balance=...)."""
+    The run also ends when the tissue's X/X0 comes within :data:`EQUILIBRIUM_GAP` of the
+    air's equilibrium moisture (:func:`equilibrium_ratio`), which a lower ``stop`` never
+    reaches. ``rows``: a list the records are appended to as they are made, so that a
+    caller keeps the records so far when the run stops with an error.
+    Returns dict(rows=[...], x=node moisture, grid=..., xy=positions, balance=...,
+    ended="stop", "equilibrium" or "hours", equilibrium=the air's X/X0, halved=how many
+    moisture steps were halved to keep the moisture non-negative)."""
     cond = dict(CONDITIONS, **(conditions or {}))
     lev = dict(LEVERS, **(levers or {}))
     x0 = params["X0"]
@@ -179,7 +253,7 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
     water0 = transport.water(grid, x)
     s_solved = np.ones(n)
     t, dt, out_face, out_edge = 0.0, lev["dt_first"], 0.0, 0.0
-    rows = []
+    rows = [] if rows is None else rows
     pending = sorted(snapshots, reverse=True)
     start = time.perf_counter()
 
@@ -212,7 +286,9 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
     t_product = temperature()
     record(0.0)
     t_end = hours * 3600
-    while t < t_end - 1e-9 and rows[-1]["X/X0"] > stop:
+    x_eq = equilibrium_ratio(params, cond["humidity"])
+    halved = 0
+    while t < t_end - 1e-9 and rows[-1]["X/X0"] > max(stop, x_eq + EQUILIBRIUM_GAP):
         dt = min(dt, t_end - t)
         t_product = temperature()
         law = transport.vapour_surface(kc, t_product, cond["temperature"], cond["humidity"],
@@ -223,7 +299,8 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
                                          params["D_energy"], params["D_moisture"], x0)
 
         before = transport.water(grid, x)
-        x_new, face, edge, _ = transport.step(grid, x, dt, diff, law, outline=cond["outline"])
+        x_new, face, edge, dt, cut = positive_step(grid, x, dt, diff, law, cond["outline"])
+        halved += cut
         change = np.abs(x_new - x).max() / x0
         x = x_new
         t += dt
@@ -246,8 +323,35 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
             level = pending.pop(0)
             if on_snapshot:
                 on_snapshot(level, row, state)
+    ended = "stop" if rows[-1]["X/X0"] <= stop else \
+        "equilibrium" if rows[-1]["X/X0"] <= x_eq + EQUILIBRIUM_GAP else "hours"
     return dict(rows=rows, x=x, grid=grid, xy=xy, water0=water0, kc=kc, h=h,
-                seconds=time.perf_counter() - start)
+                seconds=time.perf_counter() - start, ended=ended, equilibrium=x_eq,
+                halved=halved)
+
+
+def equilibrium_ratio(params, humidity):
+    """X/X0 of a tissue in equilibrium with air of relative ``humidity``: the GAB moisture
+    at aw = RH. The tissue dries towards it and never below (while it evaporates its
+    surface is cooler than the air, its aw at a given X lower, so it holds more)."""
+    return float(transport.gab_moisture(humidity, params["GAB_Xm"], params["GAB_C"],
+                                        params["GAB_K"])) / params["X0"]
+
+
+def positive_step(grid, x, dt, diff, law, outline):
+    """:func:`cgms.transport.step` of at most ``dt``, halved until every node's moisture
+    stays finite and non-negative: the surface law is linearised at the start of the
+    step, and while the surface holds free water (aw = 1) it is a constant flux, which a
+    long step draws past the water the surface nodes hold (measured with dx_max 1 and no
+    heat: the faces' mean X/X0 at -0.15). Returns (x, out through faces, out through the outline, the
+    step taken, how often it was halved); RuntimeError after :data:`MAX_HALVINGS`."""
+    for cut in range(MAX_HALVINGS + 1):
+        x_new, face, edge, _ = transport.step(grid, x, dt, diff, law, outline=outline)
+        if np.all(np.isfinite(x_new)) and x_new.min() >= 0:
+            return x_new, face, edge, dt, cut
+        dt *= 0.5
+    raise RuntimeError(f"no moisture step keeps every node's moisture finite and "
+                       f"non-negative, down to {2 * dt:.3g} s")
 
 
 def drying_time(rows, level):

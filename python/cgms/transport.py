@@ -426,6 +426,11 @@ def vapour_surface(kc, t_product, t_air, humidity, gab):
     return law
 
 
+#: the coldest product temperature (deg C) :func:`product_temperature` looks for: the
+#: saturation pressure is over liquid water, and the model has no freezing
+T_PRODUCT_MIN = -20.0
+
+
 def product_temperature(kc, h, t_air, humidity, gab, grid, x, d, outline=True):
     """Quasi-steady product temperature (deg C): the heat the air brings to every surface
     that exchanges with it, h (T_air - T_p), equals the heat of the water that evaporates
@@ -448,4 +453,8 @@ def product_temperature(kc, h, t_air, humidity, gab, grid, x, d, outline=True):
 
     if balance(t_air) >= 0:
         return float(t_air)
-    return float(brentq(balance, -20.0, t_air, xtol=1e-6))
+    if balance(T_PRODUCT_MIN) < 0:
+        raise ValueError(f"air at {t_air:g} C and RH {humidity:g} would cool the wet product "
+                         f"below {T_PRODUCT_MIN:g} C by evaporation, and the model has no "
+                         "freezing: warmer or more humid air")
+    return float(brentq(balance, T_PRODUCT_MIN, t_air, xtol=1e-6))
