@@ -18,7 +18,10 @@ only the levels every member has are used. Writes into OUT:
   2.5 (suffix ``@2.5``; the default 1.5 of ``level.s<s>.json`` drops cells at s = 0.3 and
   counts holes); cell means from the
   records: ``cell_area/A0``, ``cell_perimeter/P0``, ``cell_roundness``,
-  ``cell_elongation``; and ``rmsd_to_mean_um``, each member's centroid RMSD from the mean.
+  ``cell_elongation``; ``rmsd_to_mean_um``, each member's centroid RMSD from the mean
+  (rigid motion removed); ``pairwise_rmsd_um``, that of every pair of members; and
+  ``floor_um``, the spread sigma per centroid, sqrt(mean pairwise RMSD^2 / 2), the RMSD a
+  deterministic model cannot beat against one member (doc/calibration.md, "The floor").
 - ``centroids.s<s>.txt``: the mean centroids after superposition (the reference format,
   cell id = bead id, in the first member's frame): each member moved by the best rigid
   motion (:func:`cgms.superpose.align`) onto the mean, the mean recomputed, until it stops
@@ -104,6 +107,14 @@ def main(out, members):
         d = np.stack([np.hypot(*(q - mean).T) for q in moved])   # members x cells
         rows.append(dict(s=s, measure="rmsd_to_mean_um",
                          **stats(np.sqrt(np.mean(d ** 2, axis=1)) * 1e6)))
+        pairs = [superpose.rmsd(xy[i], xy[j], "rigid") * 1e6
+                 for i in range(len(xy)) for j in range(i + 1, len(xy))]
+        rows.append(dict(s=s, measure="pairwise_rmsd_um", **stats(pairs)))
+        # two draws from minima of spread sigma lie sqrt(2) sigma apart (doc/calibration.md,
+        # "The floor"): the RMSD a deterministic model cannot beat against one member
+        floor = float(np.sqrt(np.mean(np.square(pairs)) / 2))
+        rows.append(dict(s=s, measure="floor_um", n=len(pairs), mean=floor, std="", min="",
+                         max="", values=""))
         label = ", ".join(str(m) for m in members)
         positions.write_centroids(out / f"centroids.{name}.txt", mean, overwrite=True,
                                   comment=f"MFC ensemble mean centroids at s = {s:g}, "
