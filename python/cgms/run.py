@@ -18,7 +18,7 @@ def rest_test(every, dt, rest):
     Near a steady state the damped dynamics is one decaying mode: the largest bead speed
     v(t) = v0 exp(-t / tau), and what is left of the path is v tau. tau comes from the
     speed's own decay over the last check interval T = every dt, tau = T / ln(v_prev / v),
-    so the test v tau < rest reads v_prev > v exp(v T / rest) (no division; a speed that
+    so the test v tau < rest reads v_prev >= v exp(v T / rest) (no division; a speed that
     did not fall never passes; a tissue with no speed at all does). v_prev is the sample
     before, from a two-sample window average of fix ave/time (it must be defined before
     the fix halt that reads it, so that it is current at the check)."""
@@ -28,6 +28,7 @@ def rest_test(every, dt, rest):
     previous = "(2*f_rest-f_fluid[3])"
     condition = f"({previous}>=f_fluid[3]*exp(f_fluid[3]*{every * dt:.10g}/{rest:.10g}))"
     return commands, condition
+
 
 #: the quasi-static solve's minimiser: FIRE with a step cap. dmax: LAMMPS measures it in
 #: length units, 0.1 m by default; a cell is 1.5e-4 m
