@@ -18,10 +18,6 @@ from cgmstest import APPLE, ROOT, XREF, forces_with_material, make_tissue, requi
 MFC_MATERIAL = ROOT / "potentials" / "apple-mfc.cgms"
 MFC_REFERENCE = ROOT / "reference" / "mfc" / "calibration"
 DT = 1e-9   # s
-#: the dynamics fallback as it was when the file was fitted (commit b343f9f): residual and
-#: speed 1e-3 only, before the stop at rest (study.REST), which ends 0.1-0.7 um further on
-#: (doc/performance.md); the header's RMSD are those of that fallback's states
-FIT_FALLBACK = dict(study.FALLBACK, steady=dict(study.FALLBACK["steady"], rest=None))
 
 
 def reference_levels():
@@ -77,17 +73,15 @@ def rmsds(tmp_path_factory):
     data = folder / "tissue.data"
     tissue.write_data(data, tissue.rectangle(1.25e-3, 1.5e-3, XREF), 3 * XREF)
     out = {}
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(study, "FALLBACK", FIT_FALLBACK)
-        for name, mat in (("apple", APPLE), ("apple-mfc", MFC_MATERIAL)):
-            for s, path in reference_levels().items():
-                if s not in fitted_levels():
-                    continue
-                ids, q = positions.read_centroids(path)
-                q = q[np.argsort(ids)]
-                run, note = study.relax_or_fallback(data, mat, s, folder / name)
-                assert run["converged"], (name, s, note)
-                out[name, s] = superpose.rmsd(run["xy"], q, "rigid")
+    for name, mat in (("apple", APPLE), ("apple-mfc", MFC_MATERIAL)):
+        for s, path in reference_levels().items():
+            if s not in fitted_levels():
+                continue
+            ids, q = positions.read_centroids(path)
+            q = q[np.argsort(ids)]
+            run, note = study.relax_or_fallback(data, mat, s, folder / name)
+            assert run["converged"], (name, s, note)
+            out[name, s] = superpose.rmsd(run["xy"], q, "rigid")
     return out
 
 
@@ -120,7 +114,6 @@ def test_cgms_study_reaches_the_fitted_states_with_the_fallback(tmp_path, capsys
     require_lammps()
     from cgmstest import run_cli
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(study, "FALLBACK", FIT_FALLBACK)
     status, err, out = run_cli(capsys, "study", "--material", str(MFC_MATERIAL), "--width",
                                "1.25", "--height", "1.5", "--dryness", "1,0.6,0.3",
                                "--fallback", "dynamics", "--out", "d")

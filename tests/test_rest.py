@@ -1,9 +1,10 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""The dynamics fallback stops at rest (cgms.run.rest_test, cgms.study.FALLBACK): what is
-left of the fastest bead's path, its speed times the decay time of that speed, is below
-study.REST, where the residual and speed thresholds alone stopped with micrometres to go."""
+"""The dynamics stops at rest with steady=dict(rest=...) (cgms.run.rest_test, study.REST):
+what is left of the fastest bead's path, its speed times the decay time of that speed, is
+below study.REST, where the residual and speed thresholds alone stopped with micrometres
+to go."""
 
 import math
 
@@ -20,25 +21,30 @@ def small_tissue(tmp_path):
     return tmp_path / "tissue.data"
 
 
-def test_rest_needs_a_positive_distance_and_only_the_fallback_has_one():
+#: the fallback's dynamics, stopped at rest
+AT_REST = dict(study.FALLBACK["steady"], rest=study.REST)
+
+
+def test_rest_needs_a_positive_distance_and_is_asked_for():
     for bad in (0, -1e-7, float("nan")):
         with pytest.raises(ValueError, match="rest"):
             run.rest_test(1000, 5e-8, bad)
-    assert run.STEADY_DEFAULTS["rest"] is None   # cgms main's dynamics: as before
+    # cgms main's dynamics and the fallback: as before
+    assert run.STEADY_DEFAULTS["rest"] is None and "rest" not in study.FALLBACK["steady"]
     assert "ave/time" not in run.tissue_script("t.data", "m.cgms", 0.6)
     assert "ave/time" in run.tissue_script("t.data", "m.cgms", 0.6, dt=study.FALLBACK["dt"],
-                                           steady=study.FALLBACK["steady"])
+                                           steady=AT_REST)
 
 
 @pytest.mark.lammps
-def test_fallback_stops_with_less_than_rest_left(small_tissue, tmp_path):
-    """33 beads, the paper's apple at s = 0.6, the fallback's dynamics. The same run stopped
-    one check earlier (a serial LAMMPS run repeats its trajectory bit for bit) gives the
+def test_dynamics_stops_with_less_than_rest_left(small_tissue, tmp_path):
+    """33 beads, the paper's apple at s = 0.6, the fallback's dynamics at rest. The same run
+    stopped one check earlier (a serial LAMMPS run repeats its trajectory bit for bit) gives the
     speed before; from the two speeds, the remaining path v T / ln(v_before / v) is below
     REST (to the rounding of exp and log, 1e-9), and the speed fell. With the residual and
     speed thresholds alone (the old criterion) the run stops far earlier, with more than
     REST to go by the same estimate."""
-    steady = study.FALLBACK["steady"]
+    steady = AT_REST
     dt = study.FALLBACK["dt"]
     every = dict(run.STEADY_DEFAULTS, **steady)["every"]
     stop = study.relax(small_tissue, APPLE, 0.6, tmp_path / "stop", method="dynamics", dt=dt,

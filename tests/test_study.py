@@ -254,5 +254,4 @@ def test_fallback_keeps_the_users_steady_thresholds(monkeypatch, tmp_path):
     assert note == "ERROR: Out of range atoms" and result["converged"]
     assert calls[0]["steady"] == steady
     assert calls[1]["method"] == "dynamics" and calls[1]["dt"] == study.FALLBACK["dt"]
-    assert calls[1]["steady"] == dict(steady, max_steps=study.FALLBACK["steady"]["max_steps"],
-                                      rest=study.REST)
+    assert calls[1]["steady"] == dict(steady, max_steps=study.FALLBACK["steady"]["max_steps"])
