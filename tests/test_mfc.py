@@ -46,6 +46,24 @@ def eos(area, fluid_area, turgor):
 
 # --------------------------------------------------------------------------- builder
 
+def test_summary_reports_the_second_moment_elongation():
+    """A level's summary carries the tissue's second-moment elongation (ELpca, from the cell
+    centroids' outline) beside the paper's EL: walls stretched by 1.2 along y stretch
+    both by 1.2 (a rectangular tissue, mirror-symmetric about both centre lines at this
+    size, so the tensor stays diagonal); a fresh record without ELpca (made before it)
+    leaves ELpca/ELpca0 out rather than failing."""
+    centres = tissue.rectangle(1.25e-3, 1.5e-3, P["x_ref"])
+    xy = mfc_tissue.walls(centres, P)["xy"]
+    fresh, _ = mfc_metrics.summary(xy, N)
+    fresh, _ = mfc_metrics.summary(xy, N, fresh)
+    dried, _ = mfc_metrics.summary(xy * [1.0, 1.2], N, fresh)
+    assert fresh["ELpca/ELpca0"] == 1 and fresh["ELpca"] >= 1
+    assert dried["EL/EL0"] == pytest.approx(1.2, rel=1e-12)
+    assert dried["ELpca/ELpca0"] == pytest.approx(1.2, rel=1e-9)
+    older = {k: v for k, v in fresh.items() if not k.startswith("ELpca")}
+    assert "ELpca/ELpca0" not in mfc_metrics.summary(xy, N, older)[0]
+
+
 def test_builder_cells_sit_on_the_cgms_beads():
     centres = tissue.rectangle(1.25e-3, 1.5e-3, P["x_ref"])
     w = mfc_tissue.walls(centres, P)
@@ -570,6 +588,27 @@ def test_cluster_restart_continues_the_run(tmp_path_factory):
     assert np.abs(straight["vx"] - resumed["vx"]).max() <= 1e-9 * np.abs(straight["vx"]).max()
 
 
+def test_ramp_seeds_each_dried_levels_kick(monkeypatch):
+    """Each dried level of the ramp (stages included) kicks the walls with its own seed,
+    ``seed + round(1e4 s)``; the fresh level is not kicked. (Before the option every study
+    used seed 1: the committed references are seed 1.)"""
+    commands = []
+
+    class Recorder:
+        def command(self, line):
+            commands.append(line)
+
+    monkeypatch.setattr(mfc_run, "relax", lambda lmp, p, s, **options: dict(iterations=1))
+    for seed in (1, 7):
+        commands.clear()
+        mfc_run.ramp(Recorder(), P, 1.0, 0.85, seed=seed)
+        seeds = [int(line.split()[-3]) for line in commands if line.startswith("displace")]
+        assert seeds == [seed + 9500, seed + 9000, seed + 8500], commands
+    commands.clear()
+    mfc_run.ramp(Recorder(), P, None, 1.0, seed=7)
+    assert commands == []
+
+
 # --------------------------------------------------------------------------- the command
 
 @pytest.mark.lammps
@@ -600,6 +639,15 @@ def test_cgms_mfc_tiny_study(tmp_path):
                            text=True, timeout=300)
     assert other.returncode == 1 and "holds results of another setup (ftol" in other.stderr
     assert "Traceback" not in other.stderr
+    # another kick seed is another setup: an ensemble's members never share a folder
+    seeded = subprocess.run(cmd + ["--resume", "--seed", "2"], env=env, capture_output=True,
+                            text=True, timeout=300)
+    assert seeded.returncode == 1 and "seed: None there, 2 now" in seeded.stderr, seeded.stderr
+    for bad_seed in ("0", "-3", str(mfc_run.MAX_SEED + 1), "two"):
+        refused = subprocess.run(cmd + ["--resume", "--seed", bad_seed], env=env,
+                                 capture_output=True, text=True, timeout=300)
+        assert refused.returncode == 2 and "--seed" in refused.stderr, refused.stderr
+        assert "Traceback" not in refused.stderr
     bad = subprocess.run([sys.executable, "-m", "cgms", "mfc", "nowhere", "--out",
                           str(tmp_path / "bad")], env=env, capture_output=True, text=True)
     assert bad.returncode == 1 and "unknown tissue 'nowhere'" in bad.stderr

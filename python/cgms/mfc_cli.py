@@ -20,7 +20,9 @@ HELP = ("the fine-scale MFC model: dry cell-resolved tissues (every cell a ring 
 
 def arguments(q):
     """The options of ``cgms mfc``."""
-    from .cli import levels, positive_float, positive_int
+    from .cli import checked, levels, positive_float, positive_int
+    # LAMMPS's displace_atoms takes seeds of 1 .. 2^31 - 1, and a level adds 1e4 s to it
+    seed = checked(int, lambda v: 1 <= v <= mfc_run.MAX_SEED, f"in 1 .. {mfc_run.MAX_SEED}")
     q.add_argument("tissues", nargs="*", default=["calibration"],
                    help="tissue names: calibration (86 cells, default), 1.5x1.5, 1.5x2.0, "
                         "1.5x2.5, 2.0x2.0, 2.0x2.5, all (the six), single (one cell), or a "
@@ -41,6 +43,11 @@ def arguments(q):
                    help="Newton's method finishes a level once the minimiser's largest force is "
                         "below this, N (default %(default)g; 0: the minimiser alone, with the "
                         "shift test)")
+    q.add_argument("--seed", type=seed, default=mfc_run.DEFAULTS["seed"],
+                   help="seed of the ramp's random wall kicks (default %(default)d); the dried "
+                        "levels land on neighbouring minima that the seed alone moves, so a "
+                        "reference ensemble is one study per seed (results of different seeds "
+                        "never share a folder)")
     q.add_argument("--max-iterations", type=positive_int,
                    default=mfc_run.DEFAULTS["max_iterations"],
                    help="minimiser iteration limit per stage (default %(default)d)")
@@ -98,7 +105,7 @@ def run(out, names, centres, p, levels, args):
               f"{len(centres[name]) * p['n_wall']} wall particles", flush=True)
         results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,
                                 shift=args.shift, stage=args.stage,
-                                max_iterations=args.max_iterations,
+                                max_iterations=args.max_iterations, seed=args.seed,
                                 newton=args.newton if args.newton > 0 else None,
                                 say=lambda line: print(line, flush=True))
         for r in results:

@@ -57,22 +57,27 @@ def tissue(centroids):
 
 def summary(xy, n_wall, fresh=None):
     """Cell and tissue measures of one state: a dict of cell means, tissue ``A``, ``P``,
-    ``EL`` and, given the ``fresh`` summary, ``A/A0``, ``P/P0``, ``EL/EL0`` and the
-    relative change of the mean cell area and perimeter."""
+    ``EL``, ``ELpca`` (second moments) and, given the ``fresh`` summary, ``A/A0``, ``P/P0``,
+    ``EL/EL0``, ``ELpca/ELpca0`` and the relative change of the mean cell area and
+    perimeter."""
     cell = cells(xy, n_wall)
     out = dict(cells=len(cell["area"]))
     if len(cell["area"]) >= 3:   # a tissue outline needs three cells
         t = tissue(cell["centroid"])
-        out.update(A=t["area"], P=t["perimeter"], EL=t["elongation"])
+        out.update(A=t["area"], P=t["perimeter"], EL=t["elongation"],
+                   ELpca=t["elongation_pca"])
     out.update(cell_area=float(cell["area"].mean()),
                cell_perimeter=float(cell["perimeter"].mean()),
                cell_roundness=float(cell["roundness"].mean()),
                cell_elongation=float(cell["elongation"].mean()),
                cell_compactness=float(cell["compactness"].mean()))
     if fresh is not None and "A" in out:
+        # ELpca/ELpca0 too where the fresh record has ELpca (records before it lack it)
         out.update(morphology.normalise(
-            dict(area=t["area"], perimeter=t["perimeter"], elongation=t["elongation"]),
-            dict(area=fresh["A"], perimeter=fresh["P"], elongation=fresh["EL"])))
+            dict(area=t["area"], perimeter=t["perimeter"], elongation=t["elongation"],
+                 elongation_pca=t["elongation_pca"]),
+            dict(area=fresh["A"], perimeter=fresh["P"], elongation=fresh["EL"],
+                 **({"elongation_pca": fresh["ELpca"]} if "ELpca" in fresh else {}))))
     if fresh is not None:
         out["cell_area/A0"] = out["cell_area"] / fresh["cell_area"]
         out["cell_perimeter/P0"] = out["cell_perimeter"] / fresh["cell_perimeter"]

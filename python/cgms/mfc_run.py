@@ -38,7 +38,10 @@ from .mfc_model import level
 
 DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
                 max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg",
-                newton=1e-6)
+                newton=1e-6, seed=1)
+
+#: largest kick seed: LAMMPS's random seeds stop at 2^31 - 1, and a level adds up to 1e4 to it
+MAX_SEED = 2**31 - 1 - 10**4
 
 #: Newton calls (40 steps each) a level gets once the minimiser's iterations are spent
 SPENT_NEWTON_CALLS = 5
@@ -261,13 +264,15 @@ def stages(s_from, s_to, stage):
     return [s_from - j * stage for j in range(1, k + 1)]
 
 
-def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"], seed=1,
-         **kwargs):
+def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
+         seed=DEFAULTS["seed"], **kwargs):
     """From the steady state at ``s_from`` (None: the built tissue) to that at ``s_to``
     through the intermediate levels (one chunk of minimisation each). Before each
     dried level every wall particle is displaced at random by up to ``kick`` (m): a
     contracted wall held at its circle is a saddle (it must buckle: MFC.md 5.3), which a
-    minimiser started exactly on it never leaves. Returns the final :func:`relax` report
+    minimiser started exactly on it never leaves; the kicks of level ``s`` are seeded with
+    ``seed + round(1e4 s)``, so a study is reproducible and ``seed`` alone picks which of
+    the dried levels' neighbouring minima it lands on. Returns the final :func:`relax` report
     with the total iterations."""
     total = 0
     levels = stages(s_from, s_to, stage) + [s_to]

@@ -65,13 +65,17 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     """Relax the MFC tissue whose cells sit at ``centres`` (CGMS bead positions, m) at
     every level (descending; the fresh level 1 first, it is the reference), along the
     drying ramp of :func:`cgms.mfc_run.ramp`. Returns the per-level summaries.
-    ``out/setup.json`` records the centres, the parameters and the solver options; a
-    folder with another record is refused (FolderError), so a resume never mixes them."""
+    ``out/setup.json`` records the centres, the parameters and the solver options,
+    the ramp's kick ``seed`` among them; a folder with another record is refused
+    (FolderError), so a resume never mixes them. The default seed is left out of the
+    record: folders made before it was an option used it and resume as they are."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     centres_sha256 = hashlib.sha256(np.ascontiguousarray(centres, float).tobytes()).hexdigest()
+    recorded = {k: solver[k] for k in sorted(solver)
+                if not (k == "seed" and solver[k] == mfc_run.DEFAULTS["seed"])}
     folders.same_setup(out / "setup.json", dict(centres_sha256=centres_sha256, parameters=p,
-                                                **{k: solver[k] for k in sorted(solver)}))
+                                                **recorded))
     levels = sorted({1.0, *map(float, levels)}, reverse=True)
     data = out / "walls.data"
     if not data.exists():
@@ -135,7 +139,8 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
 
 
 COLUMNS = ("s", "A/A0", "P/P0", "EL/EL0", "cell_area/A0", "cell_perimeter/P0",
-           "cell_roundness", "cell_elongation", "iterations", "fmax", "converged", "seconds")
+           "cell_roundness", "cell_elongation", "iterations", "fmax", "converged", "seconds",
+           "ELpca/ELpca0")   # the second-moment elongation, added after the others
 
 
 def write_table(results, path):

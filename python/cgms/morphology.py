@@ -14,7 +14,8 @@ Functions (all on NumPy arrays of positions ``xy`` with shape (n, 2), in any len
 - :func:`outline`: indices of the peripheral beads, counter-clockwise.
 - :func:`boundary_cycles`: every boundary cycle (outer outlines and holes), for diagnosis.
 - :func:`measures`: area, perimeter, elongation, centroid of the outline polygon.
-- :func:`elongation_pca`: major/minor axis ratio from second moments (alternative EL).
+- :func:`elongation_pca`, :func:`polygon_elongation`: major/minor axis ratio from the area
+  second moments (``ELpca``, reported beside the paper's EL; robust to notches).
 - :func:`normalise`: ``A/A0``, ``P/P0``, ``EL/EL0`` relative to a fresh tissue.
 - :func:`shrinkage`: per-bead local area shrinkage between a fresh and a later state.
 - :func:`read_dump`: frames of a LAMMPS ``dump custom`` text file.
@@ -286,6 +287,20 @@ def _axis_ratio(sxx, syy, sxy):
     return math.sqrt(lam[1] / lam[0])
 
 
+def polygon_elongation(poly):
+    """Second-moment elongation of a closed CCW polygon: ``sqrt(l1 / l2)`` of the
+    eigenvalues l1 >= l2 of its central area second-moment tensor. Exactly the axis ratio
+    of an ellipse, the side ratio of a rectangle and that of any affine image
+    ``diag(a, b)`` of a regular polygon, in any orientation; >= 1.
+
+    Beside the paper's height / width (:func:`measures`), it is the elongation that a notch
+    in the outline cannot move by much: a notch changes the integrals by its own area
+    times its distance squared, while it moves a centre-line extent by its whole depth
+    when the line runs through it (doc/validation.md, "Elongation from second moments")."""
+    _, _, mom = _polygon_moments(poly)
+    return _axis_ratio(*mom)
+
+
 def line_extent(poly, value, axis):
     """Extent of a closed polygon along a line: for ``axis=0`` the vertical line
     ``x = value`` (extent in y), for ``axis=1`` the horizontal line ``y = value``
@@ -318,8 +333,11 @@ def measures(xy, max_edge=None):
     - ``elongation``: ``height / width`` (doc/model.md, paper section 2.5: for a rectangular
       tissue, the vertical symmetry axis over the horizontal one). Measured in the fixed
       x-y frame, so it is not rotation invariant; it may be below 1.
-    - ``elongation_pca``: major/minor axis ratio from the polygon's second moments
-      (:func:`elongation_pca`), rotation invariant and >= 1.
+    - ``elongation_pca``: the second-moment elongation of the outline polygon
+      (:func:`polygon_elongation`: sqrt of the eigenvalue ratio of its area second-moment
+      tensor), rotation invariant and >= 1; normalised as ``ELpca/ELpca0``. Reported beside
+      the paper's ``elongation``, which a notch of the outline on a centre line moves by the
+      notch's depth (near-square tissues: doc/validation.md).
     - ``outline``: the bead indices of the outline (counter-clockwise).
     """
     p = _points(xy)
@@ -375,8 +393,7 @@ def elongation_pca(xy, max_edge=None, source="outline"):
     periphery pulls it towards the outline."""
     p = _points(xy)
     if source == "outline":
-        _, _, mom = _polygon_moments(p[outline(p, max_edge)])
-        return _axis_ratio(*mom)
+        return polygon_elongation(p[outline(p, max_edge)])
     if source == "beads":
         _check_points(p)
         q = p - p.mean(axis=0)

@@ -8,7 +8,27 @@ from pathlib import Path
 
 import numpy as np
 
-STEADY_DEFAULTS = dict(residual=1e-3, speed=1e-3, every=1000, max_steps=300000)
+STEADY_DEFAULTS = dict(residual=1e-3, speed=1e-3, every=1000, max_steps=300000, rest=None)
+
+
+def rest_test(every, dt, rest):
+    """LAMMPS commands and an equal-style condition for "the beads are at rest": the
+    distance the fastest bead still has to go is below ``rest`` (m).
+
+    Near a steady state the damped dynamics is one decaying mode: the largest bead speed
+    v(t) = v0 exp(-t / tau), and what is left of the path is v tau. tau comes from the
+    speed's own decay over the last check interval T = every dt, tau = T / ln(v_prev / v),
+    so the test v tau < rest reads v_prev >= v exp(v T / rest) (no division; a speed that
+    did not fall never passes; a tissue with no speed at all does). v_prev is the sample
+    before, from a two-sample window average of fix ave/time (it must be defined before
+    the fix halt that reads it, so that it is current at the check)."""
+    if not rest > 0:
+        raise ValueError(f"steady['rest'] must be a distance > 0 (m), got {rest!r}")
+    commands = [f"fix rest all ave/time {every} 1 {every} f_fluid[3] ave window 2"]
+    previous = "(2*f_rest-f_fluid[3])"
+    condition = f"({previous}>=f_fluid[3]*exp(f_fluid[3]*{every * dt:.10g}/{rest:.10g}))"
+    return commands, condition
+
 
 #: the quasi-static solve's minimiser: FIRE with a step cap. dmax: LAMMPS measures it in
 #: length units, 0.1 m by default; a cell is 1.5e-4 m
@@ -64,7 +84,8 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     """LAMMPS commands that read a tissue and relax it to steady state at ``dryness``.
 
     The run stops when the pressure residual and the largest bead speed are both below
-    the ``steady`` thresholds (checked every ``steady['every']`` steps) or after
+    the ``steady`` thresholds (checked every ``steady['every']`` steps) and, with
+    ``steady['rest']`` (m), the beads are at rest (:func:`rest_test`), or after
     ``steady['max_steps']`` steps. ``dump``: file for the final state (and, with
     ``dump_every``, a trajectory ``<dump>.traj``). ``diameters``: the data file has a
     ``Diameters`` section (cgms.tissue.write_data) giving each bead's cell diameter.
@@ -132,8 +153,13 @@ def tissue_script(data, material, dryness, dt=1e-7, dump=None, dump_every=None, 
     elif method == "newton":
         return "\n".join(lines + ["run 0"]) + "\n"
     elif method == "dynamics":
+        condition = f"(f_fluid[1]<{st['residual']})&&(f_fluid[3]<{st['speed']})"
+        if st["rest"] is not None:
+            commands, at_rest = rest_test(st["every"], dt, st["rest"])
+            lines += commands
+            condition += f"&&{at_rest}"
         lines += [
-            f"variable steady equal (f_fluid[1]<{st['residual']})&&(f_fluid[3]<{st['speed']})",
+            f"variable steady equal {condition}",
             f"fix halt all halt {st['every']} v_steady > 0.5 error continue",
             f"run {st['max_steps']}"]
     else:

@@ -21,6 +21,12 @@ import numpy as np
 from . import folders, material as material_file, model, morphology, run
 
 LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3)
+#: a steady state at rest for the dynamics (steady=dict(rest=REST), cgms.run.rest_test):
+#: what is left of the fastest bead's path (its speed times the decay time of that speed)
+#: below 0.3 um. Not the fallback's default: on apple-mfc it costs 1.3x the steps and
+#: lowers A/A0 by 0.2-0.4 %, but on shear-soft materials (the paper's apple) the lattice
+#: creeps with tau ~ 0.1 s and a level takes the whole 4e6-step cap (doc/performance.md)
+REST = 3e-7
 #: the fallback when the quasi-static solve stops or does not converge: the dynamics at
 #: half the paper's time step (extreme settings crowd beads to 8 neighbours; dt = 5e-8 s
 #: keeps the damping inside its stability limit)
