@@ -320,35 +320,49 @@ def test_python_material_rules_are_the_plugins():
 
 # --------------------------------------------------------------------------- --fallback
 
-FIRE_STOP = ("ERROR: Fix cgms/fluid: bead 20 has no neighbour within the pair cutoff "
-             "(the minimizer moved it away from the tissue)")
+#: LAMMPS's stop when FIRE pushes a bead out of its neighbours' cutoff (apple-mfc.cgms at
+#: s = 0.6; the 20 x 20 mm apple tissue at s = 0.3), as fix cgms/fluid words it
+FIRE_STOP = ("ERROR on proc 0: Fix cgms/fluid: bead 20 has no neighbour within the pair cutoff "
+             "(use 'isolated allow' to give isolated beads the reference cell) at step 812: "
+             "its nearest bead is 0.0002071 m away; the minimizer moved it away from the "
+             "tissue (cutoff 0.0002036 m): use min_style fire or cg with min_modify dmax "
+             "~1e-6, which move beads in small steps")
+#: LAMMPS's words a command-line user does not write: a CLI message must not use them
+LAMMPS_WORDS = ("min_style", "min_modify", "dmax", "isolated allow", "pair_coeff",
+                "pair_style", "timestep", "read_data", "ERROR")
 
 
 def fire_stops_when_dry(data, material_file, dryness, out, **kwargs):
     """fake_relax, except that the quasi-static solve stops below s = 0.5, as FIRE does
-    with apple-mfc.cgms at s = 0.6 (doc/calibration.md)."""
+    with apple-mfc.cgms at s = 0.6 (doc/calibration.md) and on the 20 x 20 mm tissue."""
     if kwargs.get("method") == "quasistatic" and dryness < 0.5:
         raise study.LammpsError(dryness, FIRE_STOP, Path(out) / "log.lammps")
     return fake_relax(data, material_file, dryness, out, **kwargs)
 
 
-def test_fallback_is_recorded_marked_and_read_back(fake, capsys, monkeypatch):
-    """--fallback dynamics: the level FIRE cannot solve is the dynamics' (its dump in
-    tissue/dynamics/, which the pictures find), the table and the CSV say so per level,
-    sweep.json records the option (a resume without it is refused) and a resume reads the
-    marks back without running anything."""
-    monkeypatch.setattr(study, "relax", fire_stops_when_dry)
-    base = ["study", *SMALL, "--dryness", "1,0.3", "--out", "d"]
-    status, err, _ = run_cli(capsys, *base)
-    assert status == 1 and FIRE_STOP in err and "--fallback dynamics retries" in err
-    status, err, out = run_cli(capsys, *base[:-1], "e", "--fallback", "dynamics")
-    assert status == 0, err
-    rows = {line.split()[2]: line.split()[8:] for line in out.splitlines()
+def table_rows(out):
+    """{s: [converged, solved by ...]} of a printed study table."""
+    return {line.split()[2]: line.split()[8:] for line in out.splitlines()
             if line.startswith("  tissue ") and line.split()[1].isdigit()}
-    assert rows == {"1.00": ["yes"], "0.30": ["yes", "(dynamics)"]}, out
+
+
+def test_default_falls_back_records_marks_and_reads_back(fake, capsys, monkeypatch):
+    """The default study falls back to the dynamics by itself where FIRE stops (issue 26:
+    the 20 x 20 mm tissue at s = 0.3 stopped with LAMMPS's min_style advice): the level is
+    the dynamics' (its dump in tissue/dynamics/, which the pictures find), the table, the
+    CSV and sweep.json say which method solved each level, a resume reads the marks back
+    without running anything, and a resume with --fallback none is refused."""
+    monkeypatch.setattr(study, "relax", fire_stops_when_dry)
+    base = ["study", *SMALL, "--dryness", "1,0.3", "--out", "e"]
+    status, err, out = run_cli(capsys, *base)
+    assert status == 0, err
+    assert table_rows(out) == {"1.00": ["yes", "FIRE"], "0.30": ["yes", "dynamics", "(fallback)"]}
     assert "the steady state is the dynamics'" in out
     folder = fake / "e/tissue"
-    assert json.loads((folder / "sweep.json").read_text())["fallback"] == "dynamics"
+    record = json.loads((folder / "sweep.json").read_text())
+    assert record["fallback"] == "dynamics"
+    assert record["solved_by"] == {"s1": {"method": "quasistatic"},
+                                   "s0.3": {"method": "dynamics (fallback)", "why": FIRE_STOP}}
     level = json.loads((folder / "level.s0.3.json").read_text())
     assert level["fallback"] == FIRE_STOP and level["method"] == "dynamics"
     assert json.loads((folder / "level.s1.json").read_text())["fallback"] == ""
@@ -358,14 +372,49 @@ def test_fallback_is_recorded_marked_and_read_back(fake, capsys, monkeypatch):
         table = {r["s"]: r for r in csv.DictReader(fh)}
     assert table["0.3"]["fallback"] == FIRE_STOP and table["1.0"]["fallback"] == ""
     # a resume must use the same option ...
-    status, err, _ = run_cli(capsys, *base[:-1], "e", "--resume")
+    status, err, _ = run_cli(capsys, *base, "--resume", "--fallback", "none")
     assert status == 1 and "another setup" in err and "fallback" in err, err
     # ... and then reads the levels back, marks included, running nothing
     monkeypatch.setattr(study, "relax", lambda *a, **k: pytest.fail("level run again"))
-    status, err, again = run_cli(capsys, *base[:-1], "e", "--resume", "--fallback", "dynamics")
-    assert status == 0, err
-    assert [line for line in again.splitlines() if "(dynamics)" in line] == \
-        [line for line in out.splitlines() if "(dynamics)" in line]
+    for explicit in ([], ["--fallback", "dynamics"]):
+        status, err, again = run_cli(capsys, *base, "--resume", *explicit)
+        assert status == 0, err
+        assert table_rows(again) == table_rows(out)
+
+
+def test_without_fallback_the_stop_is_in_cli_terms(fake, capsys, monkeypatch):
+    """--fallback none: FIRE's stop is reported as its cause and the option that cures it,
+    with none of LAMMPS's commands (its advice, min_style ... dmax, is for input scripts)."""
+    monkeypatch.setattr(study, "relax", fire_stops_when_dry)
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d",
+                             "--fallback", "none")
+    assert status == 1 and len(err.strip().splitlines()) == 1, err
+    assert "s = 0.3: the quasi-static solve (FIRE) moved bead 20 out of its neighbours' reach" \
+        in err and "--fallback dynamics (the default)" in err, err
+    assert not [w for w in LAMMPS_WORDS if w in err], err
+
+
+def test_a_failed_fallback_names_both_stops_in_cli_terms(fake, capsys, monkeypatch):
+    """Where the dynamics after FIRE stops too, the message names both stops and the cure."""
+    collapse = ("ERROR on proc 0: Fix cgms/fluid: bead 7 has 9 neighbours within the cutoff at "
+                "step 300, more than the 6 of a hexagonal tissue: the tissue is collapsing "
+                "(beads crowding past the weak LJ repulsion), and the damping is unstable at "
+                "dt = 5e-08 s; a smaller time step does not cure this. The paper's forces do "
+                "not resist shear; a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
+                "line) may prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)")
+
+    def both_stop(data, material_file, dryness, out, **kwargs):
+        if dryness < 0.5:
+            raise study.LammpsError(dryness, FIRE_STOP if kwargs["method"] == "quasistatic"
+                                    else collapse, Path(out) / "log.lammps")
+        return fake_relax(data, material_file, dryness, out, **kwargs)
+
+    monkeypatch.setattr(study, "relax", both_stop)
+    status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "d")
+    assert status == 1 and len(err.strip().splitlines()) == 1, err
+    assert "moved bead 20 out of its neighbours' reach" in err and "collapsed at step 300" \
+        in err and "--set 'k_S 0.5'" in err, err
+    assert not [w for w in LAMMPS_WORDS if w in err], err
 
 
 def test_main_lists_the_fallback_dumps(fake, capsys, monkeypatch):
@@ -375,7 +424,7 @@ def test_main_lists_the_fallback_dumps(fake, capsys, monkeypatch):
     status, err, out = run_cli(capsys, "main", "--dryness", "1,0.3", "--fallback", "dynamics",
                                "--out", "m")
     assert status == 0, err
-    assert "levels marked (dynamics): dump and log in m/*/dynamics/" in out, out
+    assert "levels solved by the fallback: dump and log in m/*/dynamics/" in out, out
     assert len(list(fake.glob("m/*/dynamics/tissue.s0.3.dump"))) == 6
 
 

@@ -132,10 +132,6 @@ def material_of(args):
 
 # --------------------------------------------------------------------------- main, study
 
-#: fix cgms/fluid's stop when the built lattice is beyond a level's cutoff
-ISOLATED_AT_START = re.compile(r"no neighbour within the pair cutoff .* at step 0:")
-
-
 def dry(out, name, t, mat_file, mat, levels, args):
     """One tissue through every level: the table and the curves."""
     folder = out / name
@@ -143,23 +139,12 @@ def dry(out, name, t, mat_file, mat, levels, args):
     data = write_tissue(folder, t, mat)
     n = len(t["xy"])
     print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
-    try:
-        results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
-                              fallback=args.fallback, start=args.start,
-                              diameters=t["diameters"] is not None,
-                              method=args.method, overrides=args.set,
-                              steady=dict(residual=args.residual, speed=args.speed,
-                                          max_steps=args.max_steps))
-    except study.LammpsError as err:
-        if args.start == "built" and ISOLATED_AT_START.search(err.reason):
-            hint = ("--start previous starts each level from the previous level's steady "
-                    "state")   # the dynamics would stop there too
-        elif args.fallback or args.method == "dynamics":
-            raise
-        else:
-            hint = ("--fallback dynamics retries a level the quasi-static solve stops with "
-                    "the dynamics")
-        raise study.LammpsError(err.dryness, f"{err.reason} ({hint})", err.log) from err
+    results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
+                          fallback=fallback_of(args), start=args.start,
+                          diameters=t["diameters"] is not None,
+                          method=args.method, overrides=args.set,
+                          steady=dict(residual=args.residual, speed=args.speed,
+                                      max_steps=args.max_steps))
     rows = study.table(results)
     for r in rows:
         r["tissue"] = name
@@ -169,30 +154,56 @@ def dry(out, name, t, mat_file, mat, levels, args):
     return rows
 
 
+def fallback_of(args):
+    """--fallback as it runs: by default the dynamics after a quasi-static method (FIRE or
+    Newton) that stops, nothing after the dynamics; 'none' turns it off."""
+    if args.fallback == "none":
+        return None
+    if args.fallback is None:
+        return None if args.method == "dynamics" else study.FALLBACKS[0]
+    return args.fallback
+
+
+#: the table's words for the methods (study.solved_by)
+SOLVERS = {"quasistatic": "FIRE", "newton": "Newton", "dynamics": "dynamics"}
+
+
+def solver_name(row):
+    """Which method produced a row's level, as the table shows it."""
+    name = SOLVERS.get(row.get("method", "dynamics"), row.get("method"))
+    return f"{name} (fallback)" if row.get("fallback") else name
+
+
 def print_table(rows):
-    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0  steps*  converged")
+    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0  steps*  converged  "
+          "solved by")
     for r in rows:
         print(f"  {r['tissue']:12s} {r['beads']:6d}  {r['s']:4.2f}  {r['X/X0']:.4f}  "
               f"{r['A/A0']:.4f}  {r['P/P0']:.4f}  {r['EL/EL0']:.4f}  {r['steps']:6d}  "
-              f"{'yes' if r['converged'] else 'NO'}"
-              f"{f' ({study.FALLBACK_FOLDER})' if r.get('fallback') else ''}")
-    print("  * time steps (dynamics) or minimiser iterations (quasistatic)")
+              f"{'yes' if r['converged'] else 'NO':9s}  {solver_name(r)}")
+    print("  * time steps (dynamics) or minimiser iterations (FIRE) or Newton iterations")
     if any(r.get("fallback") for r in rows):
-        print(f"  ({study.FALLBACK_FOLDER}): the quasi-static solve stopped or did not "
-              f"converge; the steady state is the dynamics' at dt = {study.FALLBACK['dt']:g} s "
-              f"(in <tissue>/{study.FALLBACK_FOLDER}/; why: the CSV's fallback column)")
+        print(f"  (fallback): the quasi-static solve stopped or did not converge; the steady "
+              f"state is the dynamics' at dt = {study.FALLBACK['dt']:g} s (in "
+              f"<tissue>/{study.FALLBACK_FOLDER}/; why: the CSV's fallback column; "
+              "--fallback none turns this off)")
     if any(not r["converged"] and r["method"] == "quasistatic" for r in rows):
         print("  The quasi-static solve (FIRE) can stall where the potential is not convex "
               "(large dried tissues: doc/validation.md); try --method newton or dynamics.")
+
+
+def check_fallback(args):
+    """UsageError for a --fallback with nothing to fall back from."""
+    if args.fallback not in (None, "none") and args.method == "dynamics":
+        raise UsageError(f"--fallback {args.fallback} needs --method quasistatic or newton: "
+                         "the dynamics has nothing to fall back to")
 
 
 def levels_in_range(args, mat_file):
     """(levels to run, a line naming those left out or ''): the levels of --dryness that
     the material file is valid for (its 'VALID FOR lo <= s <= hi' comment). UsageError
     when none is left, or for a --fallback with nothing to fall back from."""
-    if args.fallback and args.method == "dynamics":
-        raise UsageError(f"--fallback {args.fallback} needs --method quasistatic or newton: "
-                         "the dynamics has nothing to fall back to")
+    check_fallback(args)
     lo, hi = study.valid_range(mat_file)
     kept = [s for s in args.dryness if lo <= s <= hi]
     if len(kept) == len(args.dryness):
@@ -209,7 +220,7 @@ def fallback_files(out, rows):
     files a study prints), or '' when there are none."""
     if not any(r.get("fallback") for r in rows):
         return ""
-    return (f"; levels marked ({study.FALLBACK_FOLDER}): dump and log in "
+    return (f"; levels solved by the fallback: dump and log in "
             f"{out}/*/{study.FALLBACK_FOLDER}/")
 
 
@@ -260,10 +271,12 @@ def study_job(args):
 
 
 def target_job(args):
+    check_fallback(args)
     with tissue_in_folder(args, "target") as job:
         result = study.target_moisture(job.data, job.mat_file, args.target, job.out,
                                        xtol=args.xtol, diameters=job.diameters,
-                                       method=args.method, overrides=args.set)
+                                       fallback=fallback_of(args), method=args.method,
+                                       overrides=args.set)
         for s, x in result["evaluations"]:
             print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
         print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
@@ -570,6 +583,171 @@ def tissue_job(args):
     return 0
 
 
+# --------------------------------------------------------------------------- LAMMPS stops
+
+# A LAMMPS stop names its cure in LAMMPS commands (min_style, timestep, pair_coeff ...),
+# which a command-line user does not write. Each entry: the stop's words in LAMMPS's ERROR
+# line (or cgms.run.folded's), and a function of the match and the run's context giving
+# (cause, cure) in the CLI's own terms. LAMMPS's whole line stays in the log.
+
+_NUM = r"(-?[0-9.eE+-]+|-?nan|-?inf)"
+
+
+def _isolated_low(m, c):
+    cause = (f"bead {m['bead']}'s nearest neighbour ({m['near']} m away) is beyond the "
+             f"interaction cutoff, which shrinks with the dryness ({m['cut']} m at s = "
+             f"{c.s:g}): a tissue that has not dried yet holds together only down to s = "
+             f"{m['lowest']}")
+    if c.start == "built":
+        return cause, ("--start previous dries the levels in turn, each from the previous "
+                       "level's steady state")
+    return cause, "add levels between the previous one and this to --dryness"
+
+
+def _minimizer_away(m, c):
+    return (f"the quasi-static solve (FIRE) moved bead {m['bead']} out of its neighbours' "
+            f"reach at iteration {m['step']}",
+            "--fallback dynamics (the default) solves such a level with the dynamics instead "
+            "of stopping" if not c.fallback else
+            "--method newton is another quasi-static solve")
+
+
+def _isolated(m, c):
+    return (f"bead {m['bead']} lost every neighbour at step {m['step']} ({m['where']})",
+            "the tissue must be one piece of neighbouring cells (--data), and a dried level "
+            "keeps its neighbours better when reached in turn (--start previous)")
+
+
+def _unstable(m, c):
+    solve = "the dynamics" if c.method == "dynamics" else "the quasi-static solve"
+    cause = f"{solve} became unstable at step {m['step']} ({m['what']})"
+    if c.method == "dynamics" and not c.first:
+        return cause, ("--method quasistatic or newton solves for the steady state with no "
+                       "time step")
+    if c.method != "dynamics" and not c.fallback:
+        return cause, "--fallback dynamics (the default) follows the dynamics instead"
+    return cause, ("no method solved this level: the material (--material, --set) may be "
+                   "outside what the model holds at this dryness (doc/errors.md)")
+
+
+def _shape_step(m, c):
+    return (f"the cell-shape stiffness k_S = {m['kS']} N/m is too stiff for the dynamics' "
+            f"time step (step {m['step']})",
+            "a smaller k_S (--set), or --method quasistatic or newton, which take no time step")
+
+
+def _collapse(m, c):
+    return (f"the tissue collapsed at step {m['step']}: bead {m['bead']} has {m['n']} "
+            "neighbours within the cutoff, where a hexagonal tissue has 6 (the paper's forces "
+            "do not resist shear)",
+            "a cell-shape stiffness resists it: --set 'k_S 0.5' (a larger k_S where the "
+            "material has one; doc/pair_cgms.rst)")
+
+
+def _folded(m, c):
+    return (f"the steady state folded onto itself (bead {m['bead']} has {m['n']} neighbours "
+            "within the cutoff, where a hexagonal tissue has 6)",
+            "a cell-shape stiffness or a stiffer perimeter law resists it: --set 'k_S 0.5' "
+            "or a larger k_PA (doc/pair_cgms.rst)")
+
+
+def _apart(m, c):
+    return (f"the steady state came apart into {m['pieces']} pieces: the interaction cutoff "
+            "may have fallen below the bead spacing",
+            "a smaller lj_slope (--set), or --start previous")
+
+
+def _crowded(m, c):
+    near = re.search(r"nearest beads (\S+) m apart", m["reason"])
+    return (f"the beads are too close for the material: bead {m['bead']} has {m['n']} "
+            "neighbours at the start"
+            + (f" (nearest beads {near.group(1)} m apart" if near else " (")
+            + f"{'; ' if near else ''}the material's cell spacing x_ref = {m['xref']} m)",
+            "--data positions must be cell centres in metres, and the material's diameter "
+            "and pectin (--material, --set) must fit them")
+
+
+def _overlap(m, c):
+    return (f"beads {m['a']} and {m['b']} are {m['d']} m apart, closer than the pectin "
+            "layer between two cells",
+            "remove the overlapping or duplicated beads from the --data file")
+
+
+def _nonfinite(m, c):
+    return (f"bead {m['bead']} has a non-finite {m['what']}",
+            "check the --data file's numbers")
+
+
+def _low_dryness(m, c):
+    return (f"at s = {c.s:g} the material's {m['what']} is not positive",
+            f"--dryness levels above {m['lowest']}, or another {m['params']} (--set)")
+
+
+LAMMPS_STOPS = [
+    (r"bead (?P<bead>\d+) has no neighbour within the pair cutoff .*? at step \d+: "
+     r"(?:its nearest bead is (?P<near>\S+) m away|[^;]*); at dryness \S+ the cutoff is "
+     r"(?P<cut>\S+) m .*down to a dryness of about (?P<lowest>\S+)\)", _isolated_low),
+    (r"bead (?P<bead>\d+) has no neighbour within the pair cutoff .*? at step (?P<step>\d+):"
+     r".*the minimizer moved it away", _minimizer_away),
+    (r"bead (?P<bead>\d+) has no neighbour within the pair cutoff .*? at step (?P<step>\d+): "
+     r"(?P<where>[^;]*)", _isolated),
+    (r"(?P<what>fluid mass of bead \d+ became \S+) at step (?P<step>\d+)", _unstable),
+    (r"(?P<what>bead \d+ has a non-finite pressure) at step (?P<step>\d+)", _unstable),
+    (r"stability limit of the cell-shape stiffness k_S = (?P<kS>\S+) N/m at step "
+     r"(?P<step>\d+)", _shape_step),
+    (r"the change of dryness at step (?P<step>\d+) (?P<what>compresses bead \d+)", _unstable),
+    (r"(?P<what>stability limit of the (?:turgor force|damping)) at step (?P<step>\d+)",
+     _unstable),
+    (r"bead (?P<bead>\d+) has (?P<n>\S+) neighbours within the cutoff at step (?P<step>\d+), "
+     r"more than the 6 of a hexagonal tissue: the tissue is collapsing", _collapse),
+    (r"folded onto itself: bead (?P<bead>\d+) has (?P<n>\S+) neighbours", _folded),
+    (r"came apart: (?P<pieces>\d+) pieces", _apart),
+    (r"bead (?P<bead>\d+) has (?P<n>\S+) neighbours within the pair cutoff (?:\(\S+ m\) )?at "
+     r"setup.*x_ref = (?:sqrt\(3\) b_ref \+ d_p = )?(?P<xref>[0-9.eE+-]+) m", _crowded),
+    (r"beads (?P<a>\d+) and (?P<b>\d+) are (?P<d>\S+) m apart at setup", _overlap),
+    (r"bead (?P<bead>\d+) has a non-finite (?P<what>position|velocity)", _nonfinite),
+    (r"the (?P<what>periphery factor beta) .* is not positive.*dryness above "
+     r"exp\(-beta_a/beta_b\) = (?P<lowest>\S+)(?P<params>)", _low_dryness),
+    (r"the (?P<what>LJ radius) r0 .* is not positive.*dryness above exp\(-1/lj_slope\) = "
+     r"(?P<lowest>\S+)(?P<params>)", _low_dryness),
+]
+_PARAMS = {"periphery factor beta": "beta_a, beta_b", "LJ radius": "lj_slope"}
+
+
+def cause_and_cure(reason, context):
+    """(cause, cure) of a LAMMPS ERROR line in the CLI's terms, or None for a stop the
+    table does not know (its line is then shown as LAMMPS gave it)."""
+    for pattern, explain in LAMMPS_STOPS:
+        m = re.search(pattern, reason)
+        if m:
+            groups = {k: v.rstrip(".,;") if v else v for k, v in m.groupdict().items()}
+            groups["reason"] = reason
+            if "params" in groups:
+                groups["params"] = _PARAMS[groups["what"]]
+            return explain(groups, context)
+    return None
+
+
+def lammps_stop(err, args):
+    """One line for a level LAMMPS stopped, in the CLI's terms: the level, the cause, the
+    option that cures it, and the log that holds LAMMPS's own message."""
+    method = getattr(args, "method", "quasistatic")
+    context = SimpleNamespace(s=err.dryness, start=getattr(args, "start", "built"),
+                              fallback=fallback_of(args) if hasattr(args, "fallback") else None,
+                              first=err.first, method="dynamics" if err.first else method)
+    known = cause_and_cure(err.reason, context)
+    if known:
+        text = f"{known[0]}; {known[1]}"
+    else:
+        text = f"LAMMPS stopped: {err.reason.removeprefix('ERROR: ')}"
+    if err.first:
+        first = cause_and_cure(err.first, SimpleNamespace(**{**vars(context),
+                                                             "method": method, "first": ""}))
+        text = (f"the quasi-static solve stopped ({first[0] if first else err.first}), and "
+                f"the dynamics it fell back to stopped too: {text}")
+    return f"s = {err.dryness:g}: {text} (LAMMPS log: {err.log})"
+
+
 # --------------------------------------------------------------------------- options
 
 def checked(convert, test, rule):
@@ -658,15 +836,21 @@ def common_arguments(q, kind, width=True):
                         "until the --residual and --speed thresholds hold (the paper's way)")
 
 
+def fallback_argument(q):
+    q.add_argument("--fallback", choices=(*study.FALLBACKS, "none"),
+                   help="where the quasi-static solve (FIRE or Newton) stops or does not "
+                        "converge, follow the dynamics instead (default with --method "
+                        "quasistatic or newton; dt = "
+                        f"{study.FALLBACK['dt']:g} s; log and dump in <tissue>/"
+                        f"{study.FALLBACK_FOLDER}/; the table says which method solved each "
+                        "level); none: stop there instead")
+
+
 def sweep_arguments(q):
     q.add_argument("--dryness", type=levels, default=DEFAULT_LEVELS,
                    help=f"levels (default {DEFAULT_LEVELS})")
     q.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
-    q.add_argument("--fallback", choices=study.FALLBACKS,
-                   help="where the quasi-static solve (FIRE or Newton) stops or does not "
-                        "converge, follow the dynamics instead (dt = "
-                        f"{study.FALLBACK['dt']:g} s; log and dump in <tissue>/"
-                        f"{study.FALLBACK_FOLDER}/; the table marks those levels)")
+    fallback_argument(q)
     q.add_argument("--start", choices=study.STARTS, default="built",
                    help="where each level starts: the built tissue (default; the paper's "
                         "moisture-domain approach), or the previous level's steady state, "
@@ -689,6 +873,7 @@ def target_arguments(q):
     q.add_argument("target", type=positive_float, help="moisture X/X0 to reach, e.g. 0.60")
     q.add_argument("--xtol", type=positive_float, default=1e-3,
                    help="tolerance on the initial s")
+    fallback_argument(q)
 
 
 def sensitivity_arguments(q):
@@ -742,6 +927,11 @@ def main(argv=None):
     except UsageError as err:
         print(f"cgms {args.command}: {err}", file=sys.stderr)
         return 2
+    except study.LammpsError as err:
+        if os.environ.get("CGMS_DEBUG"):
+            raise
+        print(f"cgms {args.command}: {lammps_stop(err, args)}", file=sys.stderr)
+        return 1
     except (RuntimeError, ValueError, OSError) as err:
         # a LAMMPS stop (its whole ERROR line is in the message) or a bad input: say it,
         # with no traceback (CGMS_DEBUG=1 shows it); the results so far stay in the folder
