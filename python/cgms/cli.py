@@ -26,6 +26,7 @@ import numpy as np
 
 from . import (calibrate, dry_cli, folders, material, mfc_cli, morphology, pictures, plots,
                positions, study, superpose, tissue)
+from . import fitparams
 from .fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
@@ -50,11 +51,81 @@ class UsageError(ValueError):
 # --------------------------------------------------------------------------- tissues
 
 def rectangle_tissue(width_mm, height_mm, mat, cv=0.0, seed=1):
-    """The W x H mm rectangle of the paper's fill rule (cgms.tissue.rectangle)."""
-    xy = tissue.rectangle(width_mm * 1e-3, height_mm * 1e-3, mat["x_ref"])
+    """The W x H mm rectangle of the paper's fill rule (cgms.tissue.rectangle); UsageError
+    for one too small to hold a tissue, or so large it is likely not in millimetres."""
+    size = f"--width {width_mm:g} --height {height_mm:g}"
+    spacing = f"the material's cell spacing x_ref = {mat['x_ref'] * 1e6:.4g} um"
+    estimate = width_mm * height_mm * 1e-6 / (tissue.ROW_PITCH * mat["x_ref"] ** 2)
+    if estimate > MAX_CLI_BEADS:
+        raise UsageError(f"{size} would hold about {estimate:.3g} beads at {spacing} (limit "
+                         f"{MAX_CLI_BEADS:g}): sizes are in millimetres")
+    try:
+        xy = tissue.rectangle(width_mm * 1e-3, height_mm * 1e-3, mat["x_ref"])
+    except ValueError as err:
+        if "holds no row" not in str(err):
+            raise UsageError(f"{size}: {err}") from None
+        xy = np.empty((0, 2))
+    if len(xy) < MIN_BEADS:
+        raise UsageError(f"{size} (mm) holds {len(xy)} bead(s) at {spacing}; a tissue needs "
+                         f"at least {MIN_BEADS}")
     return dict(xy=xy, ids=None, diameters=diameters(len(xy), mat, cv, seed),
                 title=f"CGMS {width_mm} x {height_mm} mm tissue",
                 what=f"{width_mm} x {height_mm} mm")
+
+
+def read_tissue_file(path):
+    """(ids, xy, diameters or None, kind) of a --data file; UsageError naming the file and
+    what is wrong with it."""
+    try:
+        if positions.is_data_file(path):
+            d = positions.read_data(path)
+            return d["ids"], d["xy"], d["diameters"], "data file"
+        ids, xy = positions.read_centroids(path)
+    except UnicodeDecodeError:
+        raise UsageError(f"--data {path}: not a text file") from None
+    except (ValueError, OSError) as err:
+        text = describe(err)
+        raise UsageError(f"--data {path}: {text.removeprefix(f'{path}: ')}") from None
+    if len(np.unique(ids)) != len(ids):
+        raise UsageError(f"--data {path}: an id is given twice")
+    return ids, xy, None, "centroid list"
+
+
+def check_layout(path, ids, xy, mat):
+    """UsageError for bead positions no tissue has: non-finite, two beads at one place, not
+    in metres (the median spacing far from x_ref), all in a row, or in pieces that no chain
+    of neighbours links (LAMMPS would stop on an isolated bead, or on no area at the end)."""
+    where = f"--data {path}"
+    bad = np.flatnonzero(~np.isfinite(xy).all(axis=1))
+    if len(bad):
+        raise UsageError(f"{where}: bead id {ids[bad[0]]} has a non-finite position "
+                         f"({len(bad)} bead(s) in all)")
+    if len(xy) < MIN_BEADS:
+        raise UsageError(f"{where}: {len(xy)} bead(s); a tissue needs at least {MIN_BEADS}")
+    order = np.lexsort((xy[:, 1], xy[:, 0]))
+    same = np.flatnonzero((np.diff(xy[order], axis=0) == 0).all(axis=1))
+    if len(same):
+        a, b = ids[order[same[0]]], ids[order[same[0] + 1]]
+        raise UsageError(f"{where}: beads {a} and {b} are at the same position; remove the "
+                         "duplicate")
+    gap = morphology.spacing(xy)
+    ratio = gap / mat["x_ref"]
+    if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
+        raise UsageError(f"{where}: neighbouring beads are {gap:.4g} m apart (median), "
+                         f"{ratio:.3g} times the material's cell spacing x_ref = "
+                         f"{mat['x_ref']:.4g} m: positions must be cell centres in metres")
+    label = morphology.pieces(xy)
+    if label.max() > 0:
+        away = ids[label > 0]
+        raise UsageError(
+            f"{where}: the beads form {label.max() + 1} pieces: bead id(s) "
+            f"{', '.join(str(i) for i in away[:5])}{' ...' if len(away) > 5 else ''} are "
+            f"more than {morphology.MAX_EDGE_FACTOR:g} x the median spacing from the largest "
+            "piece; a tissue is one piece of neighbouring cells")
+    try:
+        morphology.outline(xy)
+    except ValueError as err:
+        raise UsageError(f"{where}: {err}") from None
 
 
 def file_tissue(path, mat, cv=0.0, seed=1):
@@ -62,23 +133,8 @@ def file_tissue(path, mat, cv=0.0, seed=1):
     path = Path(path)
     if not path.is_file():
         raise UsageError(f"--data {path}: no such file")
-    if positions.is_data_file(path):
-        d = positions.read_data(path)
-        ids, xy, given, kind = d["ids"], d["xy"], d["diameters"], "data file"
-    else:
-        ids, xy = positions.read_centroids(path)
-        given, kind = None, "centroid list"
-        if len(np.unique(ids)) != len(ids):
-            raise UsageError(f"--data {path}: an id is given twice")
-    if len(xy) < MIN_BEADS:
-        raise UsageError(f"--data {path}: {len(xy)} bead(s); a tissue needs at least "
-                         f"{MIN_BEADS}")
-    gap = morphology.spacing(xy)
-    ratio = gap / mat["x_ref"]
-    if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
-        raise UsageError(f"--data {path}: neighbouring beads are {gap:.4g} m apart (median), "
-                         f"{ratio:.3g} times the material's cell spacing x_ref = "
-                         f"{mat['x_ref']:.4g} m: positions must be cell centres in metres")
+    ids, xy, given, kind = read_tissue_file(path)
+    check_layout(path, ids, xy, mat)
     if cv > 0 and given is not None:
         raise UsageError(f"--data {path} has a Diameters section: leave out --cv")
     return dict(xy=xy, ids=ids, diameters=diameters(len(xy), mat, cv, seed) if cv > 0 else given,
@@ -125,9 +181,14 @@ def tissue_in_folder(args, kind, resume=False):
 
 
 def material_of(args):
-    """(material file, parameters with --set applied), checked."""
-    mat_file = material.find(args.material)
-    return mat_file, material.with_overrides(material.read(mat_file), getattr(args, "set", ""))
+    """(material file, parameters with --set applied), checked: UsageError for a missing or
+    bad file or --set."""
+    try:
+        mat_file = material.find(args.material)
+        return mat_file, material.with_overrides(material.read(mat_file),
+                                                 getattr(args, "set", ""))
+    except (ValueError, OSError) as err:
+        raise UsageError(describe(err)) from None
 
 
 # --------------------------------------------------------------------------- main, study
@@ -406,6 +467,7 @@ def calibrate_job(args):
     refs = parse_references(args.reference)
     start = pairs(args.start, "--start", float)
     bounds = pairs(args.bounds, "--bounds", interval)
+    check_calibration(args, refs, start, bounds)
     with tissue_in_folder(args, "calibrate", args.resume) as job:
         out = job.out
         print(f"cgms calibrate: fitting {args.fit} on {job.data} ({job.n} beads), "
@@ -425,6 +487,36 @@ def calibrate_job(args):
         print_report(result)
         print(f"  results: {out}/result.json; runs (dumps, logs): {out}/runs")
     return 0
+
+
+def check_calibration(args, refs, start, bounds):
+    """UsageError for references or fit options calibrate would refuse, before its folder
+    is made: each --reference file read and matched to the tissue's ids in metres, and
+    --fit, --start, --bounds parsed as the fit will."""
+    _, mat = material_of(args)
+    t = chosen_tissue(args, mat)
+    ids = t["ids"] if t["ids"] is not None else np.arange(1, len(t["xy"]) + 1)
+    for s, path in refs.items():
+        where = f"--reference {s:g}={path}"
+        if not 0 < s <= 1:
+            raise UsageError(f"{where}: the level must be in (0, 1]")
+        if not Path(path).is_file():
+            raise UsageError(f"{where}: no such file")
+        try:
+            found, xy = positions.read_centroids(path)
+            q = calibrate.match(found, xy, ids, "the file")
+            calibrate.check_units(q, t["xy"], "the file")
+        except UnicodeDecodeError:
+            raise UsageError(f"{where}: not a text file") from None
+        except (ValueError, OSError) as err:
+            raise UsageError(f"{where}: {describe(err).removeprefix(f'{path}: ')}") from None
+    try:
+        fitparams.parse_parameters(args.fit.split(","), mat, sorted(refs, reverse=True),
+                                   start, bounds)
+    except ValueError as err:
+        option = ("--start" if "start value" in str(err) else
+                  "--bounds" if "bounds" in str(err) else f"--fit {args.fit}")
+        raise UsageError(f"{option}: {err}") from None
 
 
 def print_report(result):
@@ -495,7 +587,8 @@ def tissue_parser_arguments(p):
     common.add_argument("--cv", type=float, default=0.0,
                         help="coefficient of variation of the cell diameter; > 0 writes a "
                              "Diameters section (default 0: homogeneous tissue)")
-    common.add_argument("--seed", type=int, default=0, help="random seed for --cv (default 0)")
+    common.add_argument("--seed", type=seed_int, default=0,
+                        help="random seed for --cv (default 0)")
     common.add_argument("--dist", choices=("lognormal", "normal"), default="lognormal",
                         help="distribution of the diameters (default lognormal)")
     sub = p.add_subparsers(dest="shape", required=True)
@@ -532,7 +625,7 @@ def tissue_main(argv=None):
 
 
 def tissue_job(args):
-    for name in ("width", "height", "radius", "spacing"):
+    for name in ("width", "height", "radius", "spacing", "margin"):
         value = getattr(args, name, None)
         if value is not None and not (math.isfinite(value) and value > 0):
             print(f"cgms.tissue: {name} must be positive, got {value:g}", file=sys.stderr)
@@ -549,6 +642,14 @@ def tissue_job(args):
                     raise ValueError(f"the outline in {args.file} spans {box[0]:g} x "
                                      f"{box[1]:g} m, room for up to {estimate:.3g} beads "
                                      f"(limit {MAX_CLI_BEADS:g}); vertices must be in metres")
+        if args.shape != "polygon":
+            mm = (args.width * args.height if args.shape == "rect"
+                  else math.pi * args.radius ** 2)
+            estimate = mm * 1e-6 / (tissue.ROW_PITCH * spacing * spacing)
+            if estimate > MAX_CLI_BEADS:
+                raise ValueError(f"the {args.shape} would hold about {estimate:.3g} beads at "
+                                 f"spacing {spacing * 1e6:.4g} um (limit {MAX_CLI_BEADS:g}): "
+                                 "sizes are in millimetres, --spacing in micrometres")
         if args.shape == "rect":
             xy = tissue.rectangle(args.width * 1e-3, args.height * 1e-3, spacing,
                                   rule=args.rule, rows_along=args.rows_along,
@@ -571,8 +672,11 @@ def tissue_job(args):
         print(f"cgms.tissue: {args.out} exists; use --force to replace it or choose another "
               "--out", file=sys.stderr)
         return 1
+    except UnicodeDecodeError:
+        print(f"cgms.tissue: {args.file}: not a text file", file=sys.stderr)
+        return 1
     except (ValueError, OSError) as e:
-        print(f"cgms.tissue: {e}", file=sys.stderr)
+        print(f"cgms.tissue: {describe(e)}", file=sys.stderr)
         return 1
     extra = ""
     if diam is not None:
@@ -767,6 +871,7 @@ def checked(convert, test, rule):
 positive_int = checked(int, lambda v: v >= 1, "at least 1")
 positive_float = checked(float, lambda v: v > 0, "a positive number")
 fraction = checked(float, lambda v: v >= 0, "a number >= 0")   # e.g. a coefficient of variation
+seed_int = checked(int, lambda v: 0 <= v < 2 ** 32, "an integer from 0 to 2**32 - 1")
 
 
 def levels(text):
@@ -808,7 +913,7 @@ def tissue_source_arguments(q, width=1.5, what=""):
     q.add_argument("--height", type=positive_float, default=1.5, help="tissue height, mm")
     q.add_argument("--cv", type=fraction, default=0.0,
                    help="coefficient of variation of cell diameters (0: uniform)")
-    q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
+    q.add_argument("--seed", type=seed_int, default=1, help="seed for the cell diameters")
 
 
 def common_arguments(q, kind, width=True):
@@ -822,7 +927,7 @@ def common_arguments(q, kind, width=True):
     else:
         q.add_argument("--cv", type=fraction, default=0.0,
                        help="coefficient of variation of cell diameters (0: uniform)")
-        q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
+        q.add_argument("--seed", type=seed_int, default=1, help="seed for the cell diameters")
     q.add_argument("--residual", type=positive_float, default=1e-3,
                    help="steady-state residual")
     q.add_argument("--speed", type=positive_float, default=1e-3, help="steady-state speed, m/s")
