@@ -138,7 +138,9 @@ def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, *
         result = relax(data, material, dryness, out, **kwargs)
         if result["converged"] or not fallback_unconverged:
             return result, note
-        note = "FIRE reached its iteration limit"
+        solver = {"quasistatic": "FIRE", "newton": "Newton"}.get(kwargs["method"],
+                                                                  kwargs["method"])
+        note = f"{solver} reached its iteration limit ({result['steps']} iterations)"
     except LammpsError as err:
         if INPUT_STOP.search(err.reason):
             raise
