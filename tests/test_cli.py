@@ -227,7 +227,7 @@ def test_material_file_rules(tmp_path, capsys, monkeypatch, case):
     assert message in str(err.value) and str(path) in str(err.value), str(err.value)
     monkeypatch.chdir(tmp_path)
     status, text, _ = run_cli(capsys, "study", "--material", str(path), "--out", "out")
-    assert status == 1 and message in text and not (tmp_path / "out").exists()
+    assert status == 2 and message in text and not (tmp_path / "out").exists()
 
 
 def test_material_that_is_a_folder_or_not_text(tmp_path, capsys):
@@ -248,7 +248,7 @@ def test_set_is_checked_before_anything_is_built(fake, capsys, overrides, messag
     """--set 'diameter 0' once built an 18 072-bead tissue at 8 um spacing before LAMMPS
     refused it."""
     status, err, _ = run_cli(capsys, "study", *SMALL, "--set", overrides, "--out", "d")
-    assert status == 1 and message in err, err
+    assert status == 2 and message in err, err
     assert listing(fake) == []
 
 
@@ -291,18 +291,21 @@ def test_study_cv_is_checked_like_the_builder(fake, capsys):
 # --------------------------------------------------------------------------- section 3
 
 @pytest.mark.lammps
-def test_lammps_error_is_shown_whole_without_the_fire_hint(tmp_path, capsys, monkeypatch):
+def test_lammps_error_is_shown_in_cli_terms_from_the_whole_line(tmp_path, capsys, monkeypatch):
     """LAMMPS's Python module cuts its error message at 100 characters; the command line
-    shows the whole ERROR line of the log, and no advice about FIRE (which did not fail).
-    lj_slope 5 makes the LJ radius at s = 0.3 negative: beads lose their neighbours."""
+    reads the whole ERROR line from the log, names the log, and says the cause and cure in
+    its own options, with no advice about FIRE (which did not fail). lj_slope 5 makes the
+    LJ radius at s = 0.3 negative: the lowest dryness, 0.8187, is at the line's end."""
     monkeypatch.chdir(tmp_path)
     status, err, _ = run_cli(capsys, "study", *SMALL, "--dryness", "0.3", "--set",
                              "lj_slope 5", "--out", "d")
     log = (tmp_path / "d/tissue/log.s0.3.lammps").read_text()
     line = next(x for x in log.splitlines() if x.startswith("ERROR"))
-    assert len(line) > 100   # longer than the Python module passes on
-    assert status == 1 and line in err and "d/tissue/log.s0.3.lammps" in err, err
-    assert "FIRE" not in err
+    assert len(line) > 100 and line.index("0.8187") > 100   # beyond what the module passes on
+    assert status == 1 and "(LAMMPS log: d/tissue/log.s0.3.lammps)" in err, err
+    assert "LJ radius is not positive; --dryness levels above 0.8187, or another lj_slope " \
+        "(--set)" in err, err
+    assert "FIRE" not in err and not [w for w in LAMMPS_WORDS if w in err], err
 
 
 def test_python_material_rules_are_the_plugins():

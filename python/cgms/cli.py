@@ -717,9 +717,10 @@ def _minimizer_away(m, c):
 
 
 def _isolated(m, c):
-    return (f"bead {m['bead']} lost every neighbour at step {m['step']} ({m['where']})",
-            "the tissue must be one piece of neighbouring cells (--data), and a dried level "
-            "keeps its neighbours better when reached in turn (--start previous)")
+    return (f"bead {m['bead']} lost every neighbour at step {m['step']} ({m['where']}): the "
+            "tissue tore apart at this level",
+            "check the material (--material, --set); --start previous reaches a dried level "
+            "in turn, from the previous level's steady state")
 
 
 def _unstable(m, c):
@@ -732,6 +733,16 @@ def _unstable(m, c):
         return cause, "--fallback dynamics (the default) follows the dynamics instead"
     return cause, ("no method solved this level: the material (--material, --set) may be "
                    "outside what the model holds at this dryness (doc/errors.md)")
+
+
+def _damping_step(m, c):
+    return (f"the dynamics' time step is above the damping's stability limit ({m['limit']} s) "
+            f"for bead {m['bead']} (mass {m['mass']} kg) at step {m['step']}",
+            "the limit, 2 m / (1.5 N k_d), grows with the bead mass m (the material's height, "
+            "diameter, rho0) and falls with k_d (--set); --method quasistatic or newton take "
+            "no time step" if c.method == "dynamics" and not c.first else
+            "the limit, 2 m / (1.5 N k_d), grows with the bead mass m (the material's height, "
+            "diameter, rho0) and falls with k_d (--set)")
 
 
 def _shape_step(m, c):
@@ -800,8 +811,9 @@ LAMMPS_STOPS = [
     (r"stability limit of the cell-shape stiffness k_S = (?P<kS>\S+) N/m at step "
      r"(?P<step>\d+)", _shape_step),
     (r"the change of dryness at step (?P<step>\d+) (?P<what>compresses bead \d+)", _unstable),
-    (r"(?P<what>stability limit of the (?:turgor force|damping)) at step (?P<step>\d+)",
-     _unstable),
+    (r"stability limit of the damping at step (?P<step>\d+), about (?P<limit>\S+) s = .*? for "
+     r"bead (?P<bead>\d+) \(m = (?P<mass>\S+) kg", _damping_step),
+    (r"(?P<what>stability limit of the turgor force) at step (?P<step>\d+)", _unstable),
     (r"bead (?P<bead>\d+) has (?P<n>\S+) neighbours within the cutoff at step (?P<step>\d+), "
      r"more than the 6 of a hexagonal tissue: the tissue is collapsing", _collapse),
     (r"folded onto itself: bead (?P<bead>\d+) has (?P<n>\S+) neighbours", _folded),
@@ -821,6 +833,7 @@ _PARAMS = {"periphery factor beta": "beta_a, beta_b", "LJ radius": "lj_slope"}
 def cause_and_cure(reason, context):
     """(cause, cure) of a LAMMPS ERROR line in the CLI's terms, or None for a stop the
     table does not know (its line is then shown as LAMMPS gave it)."""
+    reason = re.sub(r" \(\S+\.cpp:\d+\)", "", reason)   # LAMMPS's source line
     for pattern, explain in LAMMPS_STOPS:
         m = re.search(pattern, reason)
         if m:
@@ -1026,7 +1039,9 @@ def main(argv=None):
     try:
         return args.func(args)
     except KeyboardInterrupt:
-        print("cgms: interrupted; finished results stay in the folder (--resume continues)",
+        # only commands that have --resume offer it
+        more = " (--resume continues)" if hasattr(args, "resume") else ""
+        print(f"cgms {args.command}: interrupted; finished results stay in the folder{more}",
               file=sys.stderr)
         return 130
     except UsageError as err:
@@ -1042,5 +1057,12 @@ def main(argv=None):
         # with no traceback (CGMS_DEBUG=1 shows it); the results so far stay in the folder
         if os.environ.get("CGMS_DEBUG"):
             raise
-        print(f"cgms: {describe(err)}", file=sys.stderr)
+        print(f"cgms {args.command}: {describe(err)}", file=sys.stderr)
+        return 1
+    except Exception as err:   # a fault of cgms itself: still one line, never a traceback
+        if os.environ.get("CGMS_DEBUG"):
+            raise
+        print(f"cgms {args.command}: internal error ({type(err).__name__}: {err}); "
+              "CGMS_DEBUG=1 shows where; please report it with the command line",
+              file=sys.stderr)
         return 1
