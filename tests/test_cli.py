@@ -473,3 +473,20 @@ def test_build_env_adds_to_the_users_potentials_folders_and_does_not_grow():
     ours = str(ROOT / "potentials")
     assert sourced({}) == ours
     assert sourced({"LAMMPS_POTENTIALS": "/users/own"}) == f"{ours}:/users/own"
+
+
+@pytest.mark.lammps
+def test_a_spent_fire_budget_falls_back_in_lammps(tmp_path, capsys, monkeypatch):
+    """The real path on a small tissue: FIRE stopped by a budget of 5 iterations (as it
+    stops on the 20 x 20 mm tissue, not converged), the default study solves the level with
+    the dynamics by itself, and says so in the table and in sweep.json."""
+    monkeypatch.chdir(tmp_path)
+    status, err, out = run_cli(capsys, "study", *SMALL, "--dryness", "1", "--max-steps", "5",
+                               "--out", "d")
+    assert status == 0, err
+    assert table_rows(out) == {"1.00": ["yes", "dynamics", "(fallback)"]}, out
+    record = json.loads((tmp_path / "d/tissue/sweep.json").read_text())
+    assert record["solved_by"] == {"s1": {"method": "dynamics (fallback)",
+                                          "why": "FIRE reached its iteration limit (5 "
+                                                 "iterations)"}}
+    assert (tmp_path / "d/tissue/dynamics/tissue.s1.dump").exists()
