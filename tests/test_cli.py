@@ -385,6 +385,19 @@ def test_default_falls_back_records_marks_and_reads_back(fake, capsys, monkeypat
         assert table_rows(again) == table_rows(out)
 
 
+def test_a_folder_made_without_fallback_resumes_as_it_was_made(fake, capsys, monkeypatch):
+    """Folders made before the fallback was the default (no 'fallback' in sweep.json, as
+    --fallback none writes) resume without options, as they were made."""
+    base = ["study", *SMALL, "--dryness", "1,0.3", "--out", "d"]
+    assert run_cli(capsys, *base[:-3], "1", "--out", "d", "--fallback", "none")[0] == 0
+    assert "fallback" not in json.loads((fake / "d/tissue/sweep.json").read_text())
+    status, err, out = run_cli(capsys, *base, "--resume")
+    assert status == 0, err
+    assert table_rows(out) == {"1.00": ["yes", "FIRE"], "0.30": ["yes", "FIRE"]}
+    status, err, _ = run_cli(capsys, *base, "--resume", "--fallback", "dynamics")
+    assert status == 1 and "another setup" in err
+
+
 def test_without_fallback_the_stop_is_in_cli_terms(fake, capsys, monkeypatch):
     """--fallback none: FIRE's stop is reported as its cause and the option that cures it,
     with none of LAMMPS's commands (its advice, min_style ... dmax, is for input scripts)."""

@@ -200,8 +200,12 @@ def dry(out, name, t, mat_file, mat, levels, args):
     data = write_tissue(folder, t, mat)
     n = len(t["xy"])
     print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
+    fallback = fallback_of(args)
+    record = folder / "sweep.json"
+    if args.fallback is None and record.exists() and "fallback" not in folders.read_json(record):
+        fallback = None   # a folder made without a fallback resumes as it was made
     results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
-                          fallback=fallback_of(args), start=args.start,
+                          fallback=fallback, start=args.start,
                           diameters=t["diameters"] is not None,
                           method=args.method, overrides=args.set,
                           steady=dict(residual=args.residual, speed=args.speed,
