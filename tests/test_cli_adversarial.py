@@ -139,7 +139,8 @@ STOPPED = [
     ("study --width 0.6 --height 0.6 --dryness 0.3 --set 'beta_b 1' --out o",
      "periphery factor beta is not positive; --dryness levels above 0.3566"),
     ("study --width 0.6 --height 0.6 --dryness 0.3 --set 'lj_slope 0.3' --out o",
-     "holds together only down to s = 0.421; --start previous"),
+     "keeps its neighbours only down to s = 0.421, with little room to move); --start "
+     "previous"),
     ("study --width 0.6 --height 0.6 --dryness 0.3 --set 'k_S 1e6' --method dynamics --out o",
      "k_S = 1e+06 N/m is too stiff for the dynamics' time step"),
 ]

@@ -704,8 +704,8 @@ _NUM = r"(-?[0-9.eE+-]+|-?nan|-?inf)"
 def _isolated_low(m, c):
     cause = (f"bead {m['bead']}'s nearest neighbour ({m['near']} m away) is beyond the "
              f"interaction cutoff, which shrinks with the dryness ({m['cut']} m at s = "
-             f"{c.s:g}): a tissue that has not dried yet holds together only down to s = "
-             f"{m['lowest']}")
+             f"{c.s:g}; the built lattice keeps its neighbours only down to s = "
+             f"{m['lowest']}, with little room to move)")
     if c.start == "built":
         return cause, ("--start previous dries the levels in turn, each from the previous "
                        "level's steady state")
@@ -849,6 +849,11 @@ def cause_and_cure(reason, context):
     return None
 
 
+def _same_cause(a, b):
+    """Whether two causes differ only in their numbers (steps, distances)."""
+    return re.sub(_NUM, "#", a) == re.sub(_NUM, "#", b)
+
+
 def lammps_stop(err, args):
     """One line for a level LAMMPS stopped, in the CLI's terms: the level, the cause, the
     option that cures it, and the log that holds LAMMPS's own message."""
@@ -864,8 +869,12 @@ def lammps_stop(err, args):
     if err.first:
         first = cause_and_cure(err.first, SimpleNamespace(**{**vars(context),
                                                              "method": method, "first": ""}))
-        text = (f"the quasi-static solve stopped ({first[0] if first else err.first}), and "
-                f"the dynamics it fell back to stopped too: {text}")
+        first = first[0] if first else err.first
+        if known and _same_cause(first, known[0]):
+            text = f"the quasi-static solve and the dynamics it fell back to stopped alike: {text}"
+        else:
+            text = (f"the quasi-static solve stopped ({first}), and the dynamics it fell back "
+                    f"to stopped too: {text}")
     return f"s = {err.dryness:g}: {text} (LAMMPS log: {err.log})"
 
 

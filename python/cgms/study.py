@@ -120,10 +120,9 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
 
 
 #: stops of the quasi-static solve that the dynamics would meet the same way: the checks of
-#: the input at setup, before either solve moves a bead, and a level whose cutoff is below
-#: the built lattice's spacing (no fallback runs after them)
-INPUT_STOP = re.compile(r"at setup|at step 0:|is not positive|CGMS material|CGMS parameter|"
-                        r"shrinks with the dryness faster than a tissue")
+#: the input at setup, before either solve moves a bead (no fallback runs after them; a
+#: bead lost later may be FIRE's doing: apple-mfc.cgms at s = 0.3, which the dynamics solves)
+INPUT_STOP = re.compile(r"at setup|at step 0:|is not positive|CGMS material|CGMS parameter")
 
 
 def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, **kwargs):
