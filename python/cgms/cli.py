@@ -24,9 +24,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, dry_cli, folders, material, mfc_cli, morphology, pictures, plots,
-               positions, study, superpose, tissue)
-from . import fitparams
+from . import (calibrate, dry_cli, fitparams, folders, material, mfc_cli, morphology, pictures,
+               plots, positions, study, superpose, tissue)
 from .fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
