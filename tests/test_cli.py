@@ -385,6 +385,17 @@ def test_default_falls_back_records_marks_and_reads_back(fake, capsys, monkeypat
         assert table_rows(again) == table_rows(out)
 
 
+def test_a_table_without_the_fresh_level_says_what_it_is_relative_to(fake, capsys):
+    """With no s = 1 level, A/A0 is 1 at the wettest level run (0.3 alone: 1.0000 for a
+    dried tissue); the table says so (found with --width 20 --height 20 --dryness 0.3)."""
+    status, err, out = run_cli(capsys, "study", *SMALL, "--dryness", "0.3", "--out", "d")
+    assert status == 0, err
+    assert ("tissue: A/A0, P/P0, EL/EL0 are relative to s = 0.3, the wettest level run; add "
+            "1 to --dryness") in out
+    status, err, out = run_cli(capsys, "study", *SMALL, "--dryness", "1,0.3", "--out", "e")
+    assert status == 0 and "relative to" not in out
+
+
 def test_a_folder_made_without_fallback_resumes_as_it_was_made(fake, capsys, monkeypatch):
     """Folders made before the fallback was the default (no 'fallback' in sweep.json, as
     --fallback none writes) resume without options, as they were made."""

@@ -246,6 +246,11 @@ def print_table(rows):
               f"{r['A/A0']:.4f}  {r['P/P0']:.4f}  {r['EL/EL0']:.4f}  {r['steps']:6d}  "
               f"{'yes' if r['converged'] else 'NO':9s}  {solver_name(r)}")
     print("  * time steps (dynamics) or minimiser iterations (FIRE) or Newton iterations")
+    for name in dict.fromkeys(r["tissue"] for r in rows):
+        wettest = max(r["s"] for r in rows if r["tissue"] == name)
+        if wettest < 1:   # study.table normalises by the wettest level it has
+            print(f"  {name}: A/A0, P/P0, EL/EL0 are relative to s = {wettest:g}, the wettest "
+                  "level run; add 1 to --dryness to compare with the fresh tissue")
     if any(r.get("fallback") for r in rows):
         print(f"  (fallback): the quasi-static solve stopped or did not converge; the steady "
               f"state is the dynamics' at dt = {study.FALLBACK['dt']:g} s (in "
