@@ -119,7 +119,8 @@ def test_cgms_study_reaches_the_fitted_states_with_the_fallback(tmp_path, capsys
                                "--fallback", "dynamics", "--out", "d")
     assert status == 0, err
     assert "not run" not in out
-    marked = [line.split()[2] for line in out.splitlines() if line.endswith("yes (dynamics)")]
+    marked = [line.split()[2] for line in out.splitlines()
+              if line.split()[-3:] == ["yes", "dynamics", "(fallback)"]]
     assert marked == ["0.60", "0.30"], out
     folder = tmp_path / "d" / "tissue"
     quoted = dict((float(s), float(r)) for r, s in re.findall(

@@ -117,8 +117,8 @@ def test_newton_level_matches_fire_and_logs_progress(small_tissue, tmp_path):
 @pytest.mark.lammps
 def test_command_line_material_overrides(tmp_path, capsys):
     """--set replaces material parameters for every level (here the extension k_S, which
-    moves the dried beads), is checked before anything runs, and a LAMMPS stop ends the
-    command with its ERROR text and exit status 1, not a traceback."""
+    moves the dried beads), and is checked before anything runs: a bad one ends the command
+    with exit status 2 (a bad option), not a traceback, and creates nothing."""
     common = ["study", "--width", "0.9", "--height", "0.8", "--dryness", "0.4"]
     assert cli.main(common + ["--out", str(tmp_path / "plain")]) == 0
     assert cli.main(common + ["--set", "k_S 0.5", "--out", str(tmp_path / "shape")]) == 0
@@ -130,8 +130,9 @@ def test_command_line_material_overrides(tmp_path, capsys):
         cli.main(common + ["--set", "k_S soft", "--out", str(tmp_path / "bad")])
     assert stop.value.code == 2 and "value 'soft' of k_S is not a number" in capsys.readouterr().err
     assert not (tmp_path / "bad").exists()
-    assert cli.main(common + ["--set", "k_X 1", "--out", str(tmp_path / "unknown")]) == 1
+    assert cli.main(common + ["--set", "k_X 1", "--out", str(tmp_path / "unknown")]) == 2
     assert "unknown CGMS parameter 'k_X'" in capsys.readouterr().err
+    assert not (tmp_path / "unknown").exists()
 
 
 def test_material_overrides_rederive_the_reference_cell():

@@ -142,9 +142,9 @@ def test_study_command_line_start_previous(tmp_path, capsys):
             "1,0.6,0.4", "--out", str(out)]
     assert cli.main(args) == 1     # from the built lattice s = 0.4 stops at step 0
     err = capsys.readouterr().err
-    assert "no neighbour within the pair cutoff" in err
-    assert "(--start previous starts each level from the previous" in err
-    assert "--fallback dynamics retries" not in err   # the dynamics stops there too
+    assert "s = 0.4: bead" in err and "is beyond the interaction cutoff" in err, err
+    assert "--start previous dries the levels in turn" in err
+    assert "fallback" not in err   # the dynamics stops there too: not run, not advised
     assert cli.main(args + ["--start", "previous", "--resume"]) == 1
     assert "start: None there, 'previous' now" in capsys.readouterr().err
     ramped = tmp_path / "ramped"

@@ -124,7 +124,7 @@ def load_references(references, data):
     return dict(sorted(out.items(), reverse=True))
 
 
-def _check_units(ref, lattice, what):
+def check_units(ref, lattice, what):
     """Reject references whose size is far from the tissue's (not in metres?)."""
     size = lambda p: math.sqrt(((p - p.mean(axis=0)) ** 2).sum(axis=1).mean())  # noqa: E731
     ratio = size(ref) / size(lattice)
@@ -198,7 +198,7 @@ def calibrate(data, material, references, out, parameters=("k_T", "k_PA", "beta"
     refs = load_references(references, data)
     lattice = positions.read_data(data)["xy"]
     for s, q in refs.items():
-        _check_units(q, lattice, f"the reference for s = {s:g}")
+        check_units(q, lattice, f"the reference for s = {s:g}")
     levels = list(refs)
     params = fitparams.parse_parameters(parameters, mat, levels, start, bounds)
     if level_start not in ("built", "previous"):

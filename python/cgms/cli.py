@@ -24,8 +24,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, dry_cli, folders, material, mfc_cli, morphology, pictures, plots,
-               positions, study, superpose, tissue)
+from . import (calibrate, dry_cli, fitparams, folders, material, mfc_cli, morphology, pictures,
+               plots, positions, study, superpose, tissue)
 from .fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
@@ -50,11 +50,85 @@ class UsageError(ValueError):
 # --------------------------------------------------------------------------- tissues
 
 def rectangle_tissue(width_mm, height_mm, mat, cv=0.0, seed=1):
-    """The W x H mm rectangle of the paper's fill rule (cgms.tissue.rectangle)."""
-    xy = tissue.rectangle(width_mm * 1e-3, height_mm * 1e-3, mat["x_ref"])
+    """The W x H mm rectangle of the paper's fill rule (cgms.tissue.rectangle); UsageError
+    for one too small to hold a tissue, or so large it is likely not in millimetres."""
+    size = f"--width {width_mm:g} --height {height_mm:g}"
+    spacing = f"the material's cell spacing x_ref = {mat['x_ref'] * 1e6:.4g} um"
+    estimate = width_mm * height_mm * 1e-6 / (tissue.ROW_PITCH * mat["x_ref"] ** 2)
+    if estimate > MAX_CLI_BEADS:
+        raise UsageError(f"{size} would hold about {estimate:.3g} beads at {spacing} (limit "
+                         f"{MAX_CLI_BEADS:g}): sizes are in millimetres")
+    try:
+        xy = tissue.rectangle(width_mm * 1e-3, height_mm * 1e-3, mat["x_ref"])
+    except ValueError as err:
+        if "holds no row" not in str(err):
+            raise UsageError(f"{size}: {err}") from None
+        xy = np.empty((0, 2))
+    if len(xy) < MIN_BEADS:
+        raise UsageError(f"{size} (mm) holds {len(xy)} bead(s) at {spacing}; a tissue needs "
+                         f"at least {MIN_BEADS}")
     return dict(xy=xy, ids=None, diameters=diameters(len(xy), mat, cv, seed),
                 title=f"CGMS {width_mm} x {height_mm} mm tissue",
                 what=f"{width_mm} x {height_mm} mm")
+
+
+def read_tissue_file(path):
+    """(ids, xy, diameters or None, kind) of a --data file; UsageError naming the file and
+    what is wrong with it."""
+    try:
+        if positions.is_data_file(path):
+            d = positions.read_data(path)
+            return d["ids"], d["xy"], d["diameters"], "data file"
+        ids, xy = positions.read_centroids(path)
+    except UnicodeDecodeError:
+        raise UsageError(f"--data {path}: not a text file") from None
+    except (ValueError, OSError) as err:
+        text = describe(err)
+        raise UsageError(f"--data {path}: {text.removeprefix(f'{path}: ')}") from None
+    if len(np.unique(ids)) != len(ids):
+        raise UsageError(f"--data {path}: an id is given twice")
+    return ids, xy, None, "centroid list"
+
+
+def check_layout(path, ids, xy, mat):
+    """UsageError for bead positions no tissue has: non-finite, two beads at one place, not
+    in metres (the median spacing far from x_ref), all in a row, or in pieces that no chain
+    of neighbours links (LAMMPS would stop on an isolated bead, or on no area at the end)."""
+    where = f"--data {path}"
+    bad = np.flatnonzero(~np.isfinite(xy).all(axis=1))
+    if len(bad):
+        raise UsageError(f"{where}: bead id {ids[bad[0]]} has a non-finite position "
+                         f"({len(bad)} bead(s) in all)")
+    if len(xy) < MIN_BEADS:
+        raise UsageError(f"{where}: {len(xy)} bead(s); a tissue needs at least {MIN_BEADS}")
+    order = np.lexsort((xy[:, 1], xy[:, 0]))
+    same = np.flatnonzero((np.diff(xy[order], axis=0) == 0).all(axis=1))
+    if len(same):
+        a, b = ids[order[same[0]]], ids[order[same[0] + 1]]
+        raise UsageError(f"{where}: beads {a} and {b} are at the same position; remove the "
+                         "duplicate")
+    gap = morphology.spacing(xy)
+    ratio = gap / mat["x_ref"]
+    if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
+        unit = next((f" (these look like {name})" for name, scale in
+                     (("micrometres", 1e6), ("millimetres", 1e3))
+                     if SPACING_RANGE[0] < ratio / scale < SPACING_RANGE[1]), "")
+        raise UsageError(f"{where}: neighbouring beads are {gap:.4g} m apart (median), "
+                         f"{ratio:.3g} times the material's cell spacing x_ref = "
+                         f"{mat['x_ref']:.4g} m: positions must be cell centres in "
+                         f"metres{unit}")
+    label = morphology.pieces(xy)
+    if label.max() > 0:
+        away = ids[label > 0]
+        raise UsageError(
+            f"{where}: the beads form {label.max() + 1} pieces: bead id(s) "
+            f"{', '.join(str(i) for i in away[:5])}{' ...' if len(away) > 5 else ''} are "
+            f"more than {morphology.MAX_EDGE_FACTOR:g} x the median spacing from the largest "
+            "piece; a tissue is one piece of neighbouring cells")
+    try:
+        morphology.outline(xy)
+    except ValueError as err:
+        raise UsageError(f"{where}: {err}") from None
 
 
 def file_tissue(path, mat, cv=0.0, seed=1):
@@ -62,27 +136,8 @@ def file_tissue(path, mat, cv=0.0, seed=1):
     path = Path(path)
     if not path.is_file():
         raise UsageError(f"--data {path}: no such file")
-    if positions.is_data_file(path):
-        d = positions.read_data(path)
-        ids, xy, given, kind = d["ids"], d["xy"], d["diameters"], "data file"
-    else:
-        ids, xy = positions.read_centroids(path)
-        given, kind = None, "centroid list"
-        if len(np.unique(ids)) != len(ids):
-            raise UsageError(f"--data {path}: an id is given twice")
-    if len(xy) < MIN_BEADS:
-        raise UsageError(f"--data {path}: {len(xy)} bead(s); a tissue needs at least "
-                         f"{MIN_BEADS}")
-    gap = morphology.spacing(xy)
-    ratio = gap / mat["x_ref"]
-    if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
-        unit = next((f" (these look like {name})" for name, scale in
-                     (("micrometres", 1e6), ("millimetres", 1e3))
-                     if SPACING_RANGE[0] < ratio / scale < SPACING_RANGE[1]), "")
-        raise UsageError(f"--data {path}: neighbouring beads are {gap:.4g} m apart (median), "
-                         f"{ratio:.3g} times the material's cell spacing x_ref = "
-                         f"{mat['x_ref']:.4g} m: positions must be cell centres in "
-                         f"metres{unit}")
+    ids, xy, given, kind = read_tissue_file(path)
+    check_layout(path, ids, xy, mat)
     if cv > 0 and given is not None:
         raise UsageError(f"--data {path} has a Diameters section: leave out --cv")
     return dict(xy=xy, ids=ids, diameters=diameters(len(xy), mat, cv, seed) if cv > 0 else given,
@@ -129,16 +184,17 @@ def tissue_in_folder(args, kind, resume=False):
 
 
 def material_of(args):
-    """(material file, parameters with --set applied), checked."""
-    mat_file = material.find(args.material)
-    return mat_file, material.with_overrides(material.read(mat_file), getattr(args, "set", ""))
+    """(material file, parameters with --set applied), checked: UsageError for a missing or
+    bad file or --set."""
+    try:
+        mat_file = material.find(args.material)
+        return mat_file, material.with_overrides(material.read(mat_file),
+                                                 getattr(args, "set", ""))
+    except (ValueError, OSError) as err:
+        raise UsageError(describe(err)) from None
 
 
 # --------------------------------------------------------------------------- main, study
-
-#: fix cgms/fluid's stop when the built lattice is beyond a level's cutoff
-ISOLATED_AT_START = re.compile(r"no neighbour within the pair cutoff .* at step 0:")
-
 
 def dry(out, name, t, mat_file, mat, levels, args):
     """One tissue through every level: the table and the curves."""
@@ -147,23 +203,16 @@ def dry(out, name, t, mat_file, mat, levels, args):
     data = write_tissue(folder, t, mat)
     n = len(t["xy"])
     print(f"cgms: {name}: {n} beads ({t['what']})", flush=True)
-    try:
-        results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
-                              fallback=args.fallback, start=args.start,
-                              diameters=t["diameters"] is not None,
-                              method=args.method, overrides=args.set,
-                              steady=dict(residual=args.residual, speed=args.speed,
-                                          max_steps=args.max_steps))
-    except study.LammpsError as err:
-        if args.start == "built" and ISOLATED_AT_START.search(err.reason):
-            hint = ("--start previous starts each level from the previous level's steady "
-                    "state")   # the dynamics would stop there too
-        elif args.fallback or args.method == "dynamics":
-            raise
-        else:
-            hint = ("--fallback dynamics retries a level the quasi-static solve stops with "
-                    "the dynamics")
-        raise study.LammpsError(err.dryness, f"{err.reason} ({hint})", err.log) from err
+    fallback = fallback_of(args)
+    record = folder / "sweep.json"
+    if args.fallback is None and record.exists() and "fallback" not in folders.read_json(record):
+        fallback = None   # a folder made without a fallback resumes as it was made
+    results = study.sweep(data, mat_file, folder, levels, progress=sys.stderr.isatty(),
+                          fallback=fallback, start=args.start,
+                          diameters=t["diameters"] is not None,
+                          method=args.method, overrides=args.set,
+                          steady=dict(residual=args.residual, speed=args.speed,
+                                      max_steps=args.max_steps))
     rows = study.table(results)
     for r in rows:
         r["tissue"] = name
@@ -173,30 +222,61 @@ def dry(out, name, t, mat_file, mat, levels, args):
     return rows
 
 
+def fallback_of(args):
+    """--fallback as it runs: by default the dynamics after a quasi-static method (FIRE or
+    Newton) that stops, nothing after the dynamics; 'none' turns it off."""
+    if args.fallback == "none":
+        return None
+    if args.fallback is None:
+        return None if args.method == "dynamics" else study.FALLBACKS[0]
+    return args.fallback
+
+
+#: the table's words for the methods (study.solved_by)
+SOLVERS = {"quasistatic": "FIRE", "newton": "Newton", "dynamics": "dynamics"}
+
+
+def solver_name(row):
+    """Which method produced a row's level, as the table shows it."""
+    name = SOLVERS.get(row.get("method", "dynamics"), row.get("method"))
+    return f"{name} (fallback)" if row.get("fallback") else name
+
+
 def print_table(rows):
-    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0  steps*  converged")
+    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0  steps*  converged  "
+          "solved by")
     for r in rows:
         print(f"  {r['tissue']:12s} {r['beads']:6d}  {r['s']:4.2f}  {r['X/X0']:.4f}  "
               f"{r['A/A0']:.4f}  {r['P/P0']:.4f}  {r['EL/EL0']:.4f}  {r['steps']:6d}  "
-              f"{'yes' if r['converged'] else 'NO'}"
-              f"{f' ({study.FALLBACK_FOLDER})' if r.get('fallback') else ''}")
-    print("  * time steps (dynamics) or minimiser iterations (quasistatic)")
+              f"{'yes' if r['converged'] else 'NO':9s}  {solver_name(r)}")
+    print("  * time steps (dynamics) or minimiser iterations (FIRE) or Newton iterations")
+    for name in dict.fromkeys(r["tissue"] for r in rows):
+        wettest = max(r["s"] for r in rows if r["tissue"] == name)
+        if wettest < 1:   # study.table normalises by the wettest level it has
+            print(f"  {name}: A/A0, P/P0, EL/EL0 are relative to s = {wettest:g}, the wettest "
+                  "level run; add 1 to --dryness to compare with the fresh tissue")
     if any(r.get("fallback") for r in rows):
-        print(f"  ({study.FALLBACK_FOLDER}): the quasi-static solve stopped or did not "
-              f"converge; the steady state is the dynamics' at dt = {study.FALLBACK['dt']:g} s "
-              f"(in <tissue>/{study.FALLBACK_FOLDER}/; why: the CSV's fallback column)")
+        print(f"  (fallback): the quasi-static solve stopped or did not converge; the steady "
+              f"state is the dynamics' at dt = {study.FALLBACK['dt']:g} s (in "
+              f"<tissue>/{study.FALLBACK_FOLDER}/; why: the CSV's fallback column; "
+              "--fallback none turns this off)")
     if any(not r["converged"] and r["method"] == "quasistatic" for r in rows):
         print("  The quasi-static solve (FIRE) can stall where the potential is not convex "
               "(large dried tissues: doc/validation.md); try --method newton or dynamics.")
+
+
+def check_fallback(args):
+    """UsageError for a --fallback with nothing to fall back from."""
+    if args.fallback not in (None, "none") and args.method == "dynamics":
+        raise UsageError(f"--fallback {args.fallback} needs --method quasistatic or newton: "
+                         "the dynamics has nothing to fall back to")
 
 
 def levels_in_range(args, mat_file):
     """(levels to run, a line naming those left out or ''): the levels of --dryness that
     the material file is valid for (its 'VALID FOR lo <= s <= hi' comment). UsageError
     when none is left, or for a --fallback with nothing to fall back from."""
-    if args.fallback and args.method == "dynamics":
-        raise UsageError(f"--fallback {args.fallback} needs --method quasistatic or newton: "
-                         "the dynamics has nothing to fall back to")
+    check_fallback(args)
     lo, hi = study.valid_range(mat_file)
     kept = [s for s in args.dryness if lo <= s <= hi]
     if len(kept) == len(args.dryness):
@@ -213,7 +293,7 @@ def fallback_files(out, rows):
     files a study prints), or '' when there are none."""
     if not any(r.get("fallback") for r in rows):
         return ""
-    return (f"; levels marked ({study.FALLBACK_FOLDER}): dump and log in "
+    return (f"; levels solved by the fallback: dump and log in "
             f"{out}/*/{study.FALLBACK_FOLDER}/")
 
 
@@ -264,10 +344,12 @@ def study_job(args):
 
 
 def target_job(args):
+    check_fallback(args)
     with tissue_in_folder(args, "target") as job:
         result = study.target_moisture(job.data, job.mat_file, args.target, job.out,
                                        xtol=args.xtol, diameters=job.diameters,
-                                       method=args.method, overrides=args.set)
+                                       fallback=fallback_of(args), method=args.method,
+                                       overrides=args.set)
         for s, x in result["evaluations"]:
             print(f"  start s = {s:.5f} -> steady X/X0 = {x:.5f}")
         print(f"cgms: to reach X/X0 = {args.target} start at s = {result['initial']:.4f} "
@@ -397,6 +479,7 @@ def calibrate_job(args):
     refs = parse_references(args.reference)
     start = pairs(args.start, "--start", float)
     bounds = pairs(args.bounds, "--bounds", interval)
+    check_calibration(args, refs, start, bounds)
     with tissue_in_folder(args, "calibrate", args.resume) as job:
         out = job.out
         print(f"cgms calibrate: fitting {args.fit} on {job.data} ({job.n} beads), "
@@ -416,6 +499,36 @@ def calibrate_job(args):
         print_report(result)
         print(f"  results: {out}/result.json; runs (dumps, logs): {out}/runs")
     return 0
+
+
+def check_calibration(args, refs, start, bounds):
+    """UsageError for references or fit options calibrate would refuse, before its folder
+    is made: each --reference file read and matched to the tissue's ids in metres, and
+    --fit, --start, --bounds parsed as the fit will."""
+    _, mat = material_of(args)
+    t = chosen_tissue(args, mat)
+    ids = t["ids"] if t["ids"] is not None else np.arange(1, len(t["xy"]) + 1)
+    for s, path in refs.items():
+        where = f"--reference {s:g}={path}"
+        if not 0 < s <= 1:
+            raise UsageError(f"{where}: the level must be in (0, 1]")
+        if not Path(path).is_file():
+            raise UsageError(f"{where}: no such file")
+        try:
+            found, xy = positions.read_centroids(path)
+            q = calibrate.match(found, xy, ids, "the file")
+            calibrate.check_units(q, t["xy"], "the file")
+        except UnicodeDecodeError:
+            raise UsageError(f"{where}: not a text file") from None
+        except (ValueError, OSError) as err:
+            raise UsageError(f"{where}: {describe(err).removeprefix(f'{path}: ')}") from None
+    try:
+        fitparams.parse_parameters(args.fit.split(","), mat, sorted(refs, reverse=True),
+                                   start, bounds)
+    except ValueError as err:
+        option = ("--start" if "start value" in str(err) else
+                  "--bounds" if "bounds" in str(err) else f"--fit {args.fit}")
+        raise UsageError(f"{option}: {err}") from None
 
 
 def print_report(result):
@@ -486,7 +599,8 @@ def tissue_parser_arguments(p):
     common.add_argument("--cv", type=float, default=0.0,
                         help="coefficient of variation of the cell diameter; > 0 writes a "
                              "Diameters section (default 0: homogeneous tissue)")
-    common.add_argument("--seed", type=int, default=0, help="random seed for --cv (default 0)")
+    common.add_argument("--seed", type=seed_int, default=0,
+                        help="random seed for --cv (default 0)")
     common.add_argument("--dist", choices=("lognormal", "normal"), default="lognormal",
                         help="distribution of the diameters (default lognormal)")
     sub = p.add_subparsers(dest="shape", required=True)
@@ -523,7 +637,7 @@ def tissue_main(argv=None):
 
 
 def tissue_job(args):
-    for name in ("width", "height", "radius", "spacing"):
+    for name in ("width", "height", "radius", "spacing", "margin"):
         value = getattr(args, name, None)
         if value is not None and not (math.isfinite(value) and value > 0):
             print(f"cgms.tissue: {name} must be positive, got {value:g}", file=sys.stderr)
@@ -540,6 +654,14 @@ def tissue_job(args):
                     raise ValueError(f"the outline in {args.file} spans {box[0]:g} x "
                                      f"{box[1]:g} m, room for up to {estimate:.3g} beads "
                                      f"(limit {MAX_CLI_BEADS:g}); vertices must be in metres")
+        if args.shape != "polygon":
+            mm = (args.width * args.height if args.shape == "rect"
+                  else math.pi * args.radius ** 2)
+            estimate = mm * 1e-6 / (tissue.ROW_PITCH * spacing * spacing)
+            if estimate > MAX_CLI_BEADS:
+                raise ValueError(f"the {args.shape} would hold about {estimate:.3g} beads at "
+                                 f"spacing {spacing * 1e6:.4g} um (limit {MAX_CLI_BEADS:g}): "
+                                 "sizes are in millimetres, --spacing in micrometres")
         if args.shape == "rect":
             xy = tissue.rectangle(args.width * 1e-3, args.height * 1e-3, spacing,
                                   rule=args.rule, rows_along=args.rows_along,
@@ -562,8 +684,11 @@ def tissue_job(args):
         print(f"cgms.tissue: {args.out} exists; use --force to replace it or choose another "
               "--out", file=sys.stderr)
         return 1
+    except UnicodeDecodeError:
+        print(f"cgms.tissue: {args.file}: not a text file", file=sys.stderr)
+        return 1
     except (ValueError, OSError) as e:
-        print(f"cgms.tissue: {e}", file=sys.stderr)
+        print(f"cgms.tissue: {describe(e)}", file=sys.stderr)
         return 1
     extra = ""
     if diam is not None:
@@ -572,6 +697,193 @@ def tissue_job(args):
     print(f"{n} beads -> {args.out} ({what}, spacing {spacing * 1e6:.2f} um, rows along "
           f"{args.rows_along}{extra})")
     return 0
+
+
+# --------------------------------------------------------------------------- LAMMPS stops
+
+# A LAMMPS stop names its cure in LAMMPS commands (min_style, timestep, pair_coeff ...),
+# which a command-line user does not write. Each entry: the stop's words in LAMMPS's ERROR
+# line (or cgms.run.folded's), and a function of the match and the run's context giving
+# (cause, cure) in the CLI's own terms. LAMMPS's whole line stays in the log.
+
+_NUM = r"(-?[0-9.eE+-]+|-?nan|-?inf)"
+
+
+def _isolated_low(m, c):
+    cause = (f"bead {m['bead']}'s nearest neighbour ({m['near']} m away) is beyond the "
+             f"interaction cutoff, which shrinks with the dryness ({m['cut']} m at s = "
+             f"{c.s:g}; the built lattice keeps its neighbours only down to s = "
+             f"{m['lowest']}, with little room to move)")
+    if c.start == "built":
+        return cause, ("--start previous dries the levels in turn, each from the previous "
+                       "level's steady state")
+    return cause, "add levels between the previous one and this to --dryness"
+
+
+def _minimizer_away(m, c):
+    return (f"the quasi-static solve (FIRE) moved bead {m['bead']} out of its neighbours' "
+            f"reach at iteration {m['step']}",
+            "--fallback dynamics (the default) solves such a level with the dynamics instead "
+            "of stopping" if not c.fallback else
+            "--method newton is another quasi-static solve")
+
+
+def _isolated(m, c):
+    return (f"bead {m['bead']} lost every neighbour at step {m['step']} ({m['where']}): the "
+            "tissue tore apart at this level",
+            "check the material (--material, --set); --start previous reaches a dried level "
+            "in turn, from the previous level's steady state")
+
+
+def _unstable(m, c):
+    solve = "the dynamics" if c.method == "dynamics" else "the quasi-static solve"
+    cause = f"{solve} became unstable at step {m['step']} ({m['what']})"
+    if c.method == "dynamics" and not c.first:
+        return cause, ("--method quasistatic or newton solves for the steady state with no "
+                       "time step")
+    if c.method != "dynamics" and not c.fallback:
+        return cause, "--fallback dynamics (the default) follows the dynamics instead"
+    return cause, ("no method solved this level: the material (--material, --set) may be "
+                   "outside what the model holds at this dryness (doc/errors.md)")
+
+
+def _damping_step(m, c):
+    return (f"the dynamics' time step is above the damping's stability limit ({m['limit']} s) "
+            f"for bead {m['bead']} (mass {m['mass']} kg) at step {m['step']}",
+            "the limit, 2 m / (1.5 N k_d), grows with the bead mass m (the material's height, "
+            "diameter, rho0) and falls with k_d (--set); --method quasistatic or newton take "
+            "no time step" if c.method == "dynamics" and not c.first else
+            "the limit, 2 m / (1.5 N k_d), grows with the bead mass m (the material's height, "
+            "diameter, rho0) and falls with k_d (--set)")
+
+
+def _shape_step(m, c):
+    return (f"the cell-shape stiffness k_S = {m['kS']} N/m is too stiff for the dynamics' "
+            f"time step (step {m['step']})",
+            "a smaller k_S (--set), or --method quasistatic or newton, which take no time step")
+
+
+def _collapse(m, c):
+    return (f"the tissue collapsed at step {m['step']}: bead {m['bead']} has {m['n']} "
+            "neighbours within the cutoff, where a hexagonal tissue has 6 (the paper's forces "
+            "do not resist shear)",
+            "a cell-shape stiffness resists it: --set 'k_S 0.5' (a larger k_S where the "
+            "material has one; doc/pair_cgms.rst)")
+
+
+def _folded(m, c):
+    return (f"the steady state folded onto itself (bead {m['bead']} has {m['n']} neighbours "
+            "within the cutoff, where a hexagonal tissue has 6)",
+            "a cell-shape stiffness or a stiffer perimeter law resists it: --set 'k_S 0.5' "
+            "or a larger k_PA (doc/pair_cgms.rst)")
+
+
+def _apart(m, c):
+    return (f"the steady state came apart into {m['pieces']} pieces: the interaction cutoff "
+            "may have fallen below the bead spacing",
+            "a smaller lj_slope (--set), or --start previous")
+
+
+def _crowded(m, c):
+    near = re.search(r"nearest beads (\S+) m apart", m["reason"])
+    return (f"the beads are too close for the material: bead {m['bead']} has {m['n']} "
+            "neighbours at the start"
+            + (f" (nearest beads {near.group(1)} m apart" if near else " (")
+            + f"{'; ' if near else ''}the material's cell spacing x_ref = {m['xref']} m)",
+            "--data positions must be cell centres in metres, and the material's diameter "
+            "and pectin (--material, --set) must fit them")
+
+
+def _overlap(m, c):
+    return (f"beads {m['a']} and {m['b']} are {m['d']} m apart, closer than the pectin "
+            "layer between two cells",
+            "remove the overlapping or duplicated beads from the --data file")
+
+
+def _nonfinite(m, c):
+    return (f"bead {m['bead']} has a non-finite {m['what']}",
+            "check the --data file's numbers")
+
+
+def _low_dryness(m, c):
+    return (f"at s = {c.s:g} the material's {m['what']} is not positive",
+            f"--dryness levels above {m['lowest']}, or another {m['params']} (--set)")
+
+
+LAMMPS_STOPS = [
+    (r"bead (?P<bead>\d+) has no neighbour within the pair cutoff .*? at step \d+: "
+     r"(?:its nearest bead is (?P<near>\S+) m away|[^;]*); at dryness \S+ the cutoff is "
+     r"(?P<cut>\S+) m .*down to a dryness of about (?P<lowest>\S+)\)", _isolated_low),
+    (r"bead (?P<bead>\d+) has no neighbour within the pair cutoff .*? at step (?P<step>\d+):"
+     r".*the minimizer moved it away", _minimizer_away),
+    (r"bead (?P<bead>\d+) has no neighbour within the pair cutoff .*? at step (?P<step>\d+): "
+     r"(?P<where>[^;]*)", _isolated),
+    (r"(?P<what>fluid mass of bead \d+ became \S+) at step (?P<step>\d+)", _unstable),
+    (r"(?P<what>bead \d+ has a non-finite pressure) at step (?P<step>\d+)", _unstable),
+    (r"stability limit of the cell-shape stiffness k_S = (?P<kS>\S+) N/m at step "
+     r"(?P<step>\d+)", _shape_step),
+    (r"the change of dryness at step (?P<step>\d+) (?P<what>compresses bead \d+)", _unstable),
+    (r"stability limit of the damping at step (?P<step>\d+), about (?P<limit>\S+) s = .*? for "
+     r"bead (?P<bead>\d+) \(m = (?P<mass>\S+) kg", _damping_step),
+    (r"(?P<what>stability limit of the turgor force) at step (?P<step>\d+)", _unstable),
+    (r"bead (?P<bead>\d+) has (?P<n>\S+) neighbours within the cutoff at step (?P<step>\d+), "
+     r"more than the 6 of a hexagonal tissue: the tissue is collapsing", _collapse),
+    (r"folded onto itself: bead (?P<bead>\d+) has (?P<n>\S+) neighbours", _folded),
+    (r"came apart: (?P<pieces>\d+) pieces", _apart),
+    (r"bead (?P<bead>\d+) has (?P<n>\S+) neighbours within the pair cutoff (?:\(\S+ m\) )?at "
+     r"setup.*x_ref = (?:sqrt\(3\) b_ref \+ d_p = )?(?P<xref>[0-9.eE+-]+) m", _crowded),
+    (r"beads (?P<a>\d+) and (?P<b>\d+) are (?P<d>\S+) m apart at setup", _overlap),
+    (r"bead (?P<bead>\d+) has a non-finite (?P<what>position|velocity)", _nonfinite),
+    (r"the (?P<what>periphery factor beta) .* is not positive.*dryness above "
+     r"exp\(-beta_a/beta_b\) = (?P<lowest>\S+)(?P<params>)", _low_dryness),
+    (r"the (?P<what>LJ radius) r0 .* is not positive.*dryness above exp\(-1/lj_slope\) = "
+     r"(?P<lowest>\S+)(?P<params>)", _low_dryness),
+]
+_PARAMS = {"periphery factor beta": "beta_a, beta_b", "LJ radius": "lj_slope"}
+
+
+def cause_and_cure(reason, context):
+    """(cause, cure) of a LAMMPS ERROR line in the CLI's terms, or None for a stop the
+    table does not know (its line is then shown as LAMMPS gave it)."""
+    reason = re.sub(r" \(\S+\.cpp:\d+\)", "", reason)   # LAMMPS's source line
+    for pattern, explain in LAMMPS_STOPS:
+        m = re.search(pattern, reason)
+        if m:
+            groups = {k: v.rstrip(".,;") if v else v for k, v in m.groupdict().items()}
+            groups["reason"] = reason
+            if "params" in groups:
+                groups["params"] = _PARAMS[groups["what"]]
+            return explain(groups, context)
+    return None
+
+
+def _same_cause(a, b):
+    """Whether two causes differ only in their numbers (steps, distances)."""
+    return re.sub(_NUM, "#", a) == re.sub(_NUM, "#", b)
+
+
+def lammps_stop(err, args):
+    """One line for a level LAMMPS stopped, in the CLI's terms: the level, the cause, the
+    option that cures it, and the log that holds LAMMPS's own message."""
+    method = getattr(args, "method", "quasistatic")
+    context = SimpleNamespace(s=err.dryness, start=getattr(args, "start", "built"),
+                              fallback=fallback_of(args) if hasattr(args, "fallback") else None,
+                              first=err.first, method="dynamics" if err.first else method)
+    known = cause_and_cure(err.reason, context)
+    if known:
+        text = f"{known[0]}; {known[1]}"
+    else:
+        text = f"LAMMPS stopped: {err.reason.removeprefix('ERROR: ')}"
+    if err.first:
+        first = cause_and_cure(err.first, SimpleNamespace(**{**vars(context),
+                                                             "method": method, "first": ""}))
+        first = first[0] if first else err.first
+        if known and _same_cause(first, known[0]):
+            text = f"the quasi-static solve and the dynamics it fell back to stopped alike: {text}"
+        else:
+            text = (f"the quasi-static solve stopped ({first}), and the dynamics it fell back "
+                    f"to stopped too: {text}")
+    return f"s = {err.dryness:g}: {text} (LAMMPS log: {err.log})"
 
 
 # --------------------------------------------------------------------------- options
@@ -593,6 +905,7 @@ def checked(convert, test, rule):
 positive_int = checked(int, lambda v: v >= 1, "at least 1")
 positive_float = checked(float, lambda v: v > 0, "a positive number")
 fraction = checked(float, lambda v: v >= 0, "a number >= 0")   # e.g. a coefficient of variation
+seed_int = checked(int, lambda v: 0 <= v < 2 ** 32, "an integer from 0 to 2**32 - 1")
 
 
 def levels(text):
@@ -634,7 +947,7 @@ def tissue_source_arguments(q, width=1.5, what=""):
     q.add_argument("--height", type=positive_float, default=1.5, help="tissue height, mm")
     q.add_argument("--cv", type=fraction, default=0.0,
                    help="coefficient of variation of cell diameters (0: uniform)")
-    q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
+    q.add_argument("--seed", type=seed_int, default=1, help="seed for the cell diameters")
 
 
 def common_arguments(q, kind, width=True):
@@ -648,7 +961,7 @@ def common_arguments(q, kind, width=True):
     else:
         q.add_argument("--cv", type=fraction, default=0.0,
                        help="coefficient of variation of cell diameters (0: uniform)")
-        q.add_argument("--seed", type=int, default=1, help="seed for the cell diameters")
+        q.add_argument("--seed", type=seed_int, default=1, help="seed for the cell diameters")
     q.add_argument("--residual", type=positive_float, default=1e-3,
                    help="steady-state residual")
     q.add_argument("--speed", type=positive_float, default=1e-3, help="steady-state speed, m/s")
@@ -662,15 +975,21 @@ def common_arguments(q, kind, width=True):
                         "until the --residual and --speed thresholds hold (the paper's way)")
 
 
+def fallback_argument(q):
+    q.add_argument("--fallback", choices=(*study.FALLBACKS, "none"),
+                   help="where the quasi-static solve (FIRE or Newton) stops or does not "
+                        "converge, follow the dynamics instead (default with --method "
+                        "quasistatic or newton; dt = "
+                        f"{study.FALLBACK['dt']:g} s; log and dump in <tissue>/"
+                        f"{study.FALLBACK_FOLDER}/; the table says which method solved each "
+                        "level); none: stop there instead")
+
+
 def sweep_arguments(q):
     q.add_argument("--dryness", type=levels, default=DEFAULT_LEVELS,
                    help=f"levels (default {DEFAULT_LEVELS})")
     q.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
-    q.add_argument("--fallback", choices=study.FALLBACKS,
-                   help="where the quasi-static solve (FIRE or Newton) stops or does not "
-                        "converge, follow the dynamics instead (dt = "
-                        f"{study.FALLBACK['dt']:g} s; log and dump in <tissue>/"
-                        f"{study.FALLBACK_FOLDER}/; the table marks those levels)")
+    fallback_argument(q)
     q.add_argument("--start", choices=study.STARTS, default="built",
                    help="where each level starts: the built tissue (default; the paper's "
                         "moisture-domain approach), or the previous level's steady state, "
@@ -693,6 +1012,7 @@ def target_arguments(q):
     q.add_argument("target", type=positive_float, help="moisture X/X0 to reach, e.g. 0.60")
     q.add_argument("--xtol", type=positive_float, default=1e-3,
                    help="tolerance on the initial s")
+    fallback_argument(q)
 
 
 def sensitivity_arguments(q):
@@ -740,16 +1060,30 @@ def main(argv=None):
     try:
         return args.func(args)
     except KeyboardInterrupt:
-        print("cgms: interrupted; finished results stay in the folder (--resume continues)",
+        # only commands that have --resume offer it
+        more = " (--resume continues)" if hasattr(args, "resume") else ""
+        print(f"cgms {args.command}: interrupted; finished results stay in the folder{more}",
               file=sys.stderr)
         return 130
     except UsageError as err:
         print(f"cgms {args.command}: {err}", file=sys.stderr)
         return 2
+    except study.LammpsError as err:
+        if os.environ.get("CGMS_DEBUG"):
+            raise
+        print(f"cgms {args.command}: {lammps_stop(err, args)}", file=sys.stderr)
+        return 1
     except (RuntimeError, ValueError, OSError) as err:
         # a LAMMPS stop (its whole ERROR line is in the message) or a bad input: say it,
         # with no traceback (CGMS_DEBUG=1 shows it); the results so far stay in the folder
         if os.environ.get("CGMS_DEBUG"):
             raise
-        print(f"cgms: {describe(err)}", file=sys.stderr)
+        print(f"cgms {args.command}: {describe(err)}", file=sys.stderr)
+        return 1
+    except Exception as err:   # a fault of cgms itself: still one line, never a traceback
+        if os.environ.get("CGMS_DEBUG"):
+            raise
+        print(f"cgms {args.command}: internal error ({type(err).__name__}: {err}); "
+              "CGMS_DEBUG=1 shows where; please report it with the command line",
+              file=sys.stderr)
         return 1

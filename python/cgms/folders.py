@@ -138,13 +138,14 @@ def read_npy(path):
                          "to recompute that level") from None
 
 
-def same_setup(path, setup):
+def same_setup(path, setup, kept=()):
     """Record ``setup`` (a JSON-able dict of what defines the results in a folder) in
     ``path``, or, if it is there, check that it is the same: FolderError naming the
-    entries that differ (results of another setup must never be mixed)."""
+    entries that differ (results of another setup must never be mixed). ``kept``: entries
+    the record may hold besides the setup (what was done with it), left out of the check."""
     setup = json.loads(json.dumps(setup))   # as JSON will read it back
     if Path(path).exists():
-        old = read_json(path)
+        old = {k: v for k, v in read_json(path).items() if k not in kept}
         if old != setup:
             diff = sorted(k for k in set(old) | set(setup) if old.get(k) != setup.get(k))
             shown = "; ".join(f"{k}: {old.get(k)!r} there, {setup.get(k)!r} now" for k in diff)

