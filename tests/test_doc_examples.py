@@ -132,17 +132,6 @@ CGMS = TISSUE + ["pair_style cgms", "pair_coeff * * apple.cgms",
                  "fix 2d all enforce2d", "timestep 1e-7"]
 
 
-def mfc_setup(folder):
-    """Two fresh MFC cells (rings of wall particles) and the wall forces, as cgms.mfc_run
-    sets them up, before the cell fluid (fix mfc/pressure)."""
-    from cgms import mfc_model, mfc_run, mfc_tissue
-    p = mfc_model.parameters("apple")
-    mfc_tissue.write_data(folder / "cells.data", [[0.0, 0.0], [p["x_ref"], 0.0]], p)
-    keep = [c for c in mfc_run.level_commands(p, 1.0) if "mfc/pressure" not in c
-            and not c.startswith("fix_modify")]
-    return mfc_run.setup_commands(folder / "cells.data", p) + keep
-
-
 def sph_setup(folder):
     """Four SPH particles of each of four types on a 4.47 um lattice (types 1-3 walls in
     the wall variant), as the fine model's cells have them."""
@@ -176,13 +165,14 @@ PAGES = {
                                               "fix nve all nve", "fix 2d all enforce2d",
                                               "timestep 1e-7"],
     "fix_cgms_transport.rst": lambda f: CGMS,
-    "fix_mfc_pressure.rst": mfc_setup,
+    "fix_mfc_pressure.rst": None,
     "pair_sph_taitwater_ap.rst": sph_setup,
 }
-#: pages whose example is being fixed elsewhere
-BROKEN = {"fix_mfc_pressure.rst": "the example's minimize stops on a stalled line search "
-                                  "(issue 26, 'The fine-model styles used by hand'); its "
-                                  "doc is fixed on another branch"}
+#: pages whose example is a Python block and a LAMMPS block run together, by their own test
+RUN_ELSEWHERE = {"fix_mfc_pressure.rst": "its Python block writes the walls its LAMMPS block "
+                                         "reads: run as written, on 1 and 2 ranks, by "
+                                         "test_mfc_styles_errors.py::test_fix_mfc_pressure_"
+                                         "example_runs_as_written"}
 
 
 def test_every_style_page_is_covered():
@@ -191,7 +181,7 @@ def test_every_style_page_is_covered():
 
 @pytest.mark.lammps
 @pytest.mark.parametrize("page", [pytest.param(
-    name, marks=[pytest.mark.xfail(reason=BROKEN[name], strict=False)] if name in BROKEN
+    name, marks=[pytest.mark.skip(reason=RUN_ELSEWHERE[name])] if name in RUN_ELSEWHERE
     else []) for name in sorted(PAGES)])
 def test_style_page_example_runs(folder, page):
     example = rst_examples(DOC / page)

@@ -63,7 +63,7 @@ REFUSED = [
     (["--width", "0.2", "--height", "0.2"], "a tissue needs at least 3"),   # 2 beads
     (["--data", "FILE:one"], "a tissue needs at least 3"),
     (["--data", "FILE:row"], "collinear"),
-    (["--data", "FILE:isolated"], "no neighbour"),
+    (["--data", "FILE:isolated"], "the beads form 2 pieces"),
     (["--data", "FILE:um", "--frozen"], "these look like micrometres"),
     (["--data", "FILE:um_txt", "--frozen"], "these look like micrometres"),
     (["--data", "FILE:empty"], "empty.data"),
