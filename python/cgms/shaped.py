@@ -101,6 +101,27 @@ def topology(xy, spacing, cutoff=CUTOFF):
     return dict(n=n, neighbours=nb, rings=rings, spacing=float(spacing))
 
 
+def triangles(topo, xy):
+    """The real bead triangles (k, 3), counter-clockwise in ``xy``: triples of mutual
+    fresh neighbours that are angularly consecutive around each of their beads."""
+    tri = set()
+    for i, ring in enumerate(topo["rings"]):
+        real = [p["terms"][0][0] if not p["ghost"] else None for p in ring]
+        for j in range(len(ring)):
+            a, b = real[j], real[(j + 1) % len(ring)]
+            if a is not None and b is not None and topo["neighbours"][a, b]:
+                t = (i, a, b)
+                k = t.index(min(t))
+                tri.add(t[k:] + t[:k])
+    return np.array(sorted(tri), dtype=int).reshape(-1, 3)
+
+
+def triangle_areas(x, tri):
+    """Signed areas of the bead triangles ``tri`` (positive counter-clockwise)."""
+    a, b, c = x[tri[:, 0]], x[tri[:, 1]], x[tri[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
 def _ring_point_rows(i, point, beta):
     """Terms of a ring point as absolute coefficients: list of (bead, 2x2), with x_i's
     own coefficient; a ghost's offset from x_i is scaled by ``beta``."""
@@ -247,6 +268,8 @@ def build(xy0, mat, params=None, spacing=None):
     nonnb = ~topo["neighbours"]
     np.fill_diagonal(nonnb, False)
     geo["pairs"] = np.argwhere(np.triu(nonnb))
+    geo["triangles"] = triangles(topo, x0)
+    geo["tri_area0"] = triangle_areas(x0, geo["triangles"])
     geo["mat"] = mat
     return geo
 
