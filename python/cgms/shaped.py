@@ -446,9 +446,11 @@ def cell_measures(x, lev):
     elong = np.empty(lev["n"])
     for c in range(lev["n"]):
         e = np.flatnonzero(lev["cell"] == c)
-        poly = J[lev["ja"][e]]
-        _, _, mom = morphology._polygon_moments(poly)
-        elong[c] = morphology._axis_ratio(*mom)
+        try:
+            _, _, mom = morphology._polygon_moments(J[lev["ja"][e]])
+            elong[c] = morphology._axis_ratio(*mom)
+        except ValueError:   # a folded polygon (inverted triangles) has no elongation
+            elong[c] = np.nan
     P = tait_pressure(A, lev["A_f"], lev["P_T"], lev["mat"]["K"])
     return dict(area=A, perimeter=perim, elongation=elong, pressure=P)
 
