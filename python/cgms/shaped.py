@@ -119,7 +119,8 @@ def triangles(topo, xy):
 def triangle_areas(x, tri):
     """Signed areas of the bead triangles ``tri`` (positive counter-clockwise)."""
     a, b, c = x[tri[:, 0]], x[tri[:, 1]], x[tri[:, 2]]
-    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+    u, v = b - a, c - a
+    return 0.5 * (u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
 
 
 def _ring_point_rows(i, point, beta):

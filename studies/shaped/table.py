@@ -138,7 +138,8 @@ def print_rows(rows, out=sys.stdout):
                               f"{r[f'dev {k} %']:+.2f}" for k in KEYS)
             rm = f"{r['rmsd_um']:.1f}"
         else:
-            cells = f"- / {r['cell_area']:.4f} | - / {r['cell_perim']:.4f} | - / {r['cell_elong']:.2f}"
+            cells = (f"- / {r['cell_area']:.4f} | - / {r['cell_perim']:.4f} | "
+                     f"- / {r['cell_elong']:.2f}")
             vals = " | ".join(f"- | {r[f'shaped {k}']:.4f} | -" for k in KEYS)
             rm = "-"
         print(f"| {r['tissue']} | {r['s']:g} | {vals} | {rm} | {cells} | {r['folded']} | "
