@@ -100,13 +100,15 @@ def test_rigid_motions_leave_the_energy_and_sum_no_force_or_torque():
                                atol=m * EPS * np.abs(g).max())
 
 
-@pytest.mark.parametrize("size", [(1.25e-3, 1.5e-3), (0.6e-3, 1.1e-3)])
-def test_built_lattice_is_in_balance_and_every_cell_the_same_regular_hexagon(size):
+@pytest.mark.parametrize("shape", [("rectangle", 1.25e-3, 1.5e-3), ("rectangle", 0.6e-3, 1.1e-3),
+                                   ("disc", 0.5e-3)])
+def test_built_lattice_is_in_balance_and_every_cell_the_same_regular_hexagon(shape):
     """At s = 1 and beta = 1 every cell, the boundary cells closed by their ghosts too, is
     the regular hexagon of side x_ref / sqrt(3), so every wall has the same tension and the
     built lattice is a steady state: the forces vanish to rounding (a force is a sum of
-    a few dozen terms of the size of the wall tension)."""
-    xy = tissue.rectangle(*size, MAT["x_ref"])
+    a few dozen terms of the size of the wall tension). The outlines have beads with 2,
+    3, 4 and 5 neighbours (narrow rectangle) and 3 and 4 (disc)."""
+    xy = getattr(tissue, shape[0])(*shape[1:], MAT["x_ref"])
     geo = shaped.build(xy, MAT, dict(beta_a=1.0, beta_b=0.3))
     lev = shaped.at_level(geo, 1.0)
     assert lev["beta"] == 1.0 and geo["boundary"].sum() > 0

@@ -11,8 +11,9 @@ force is a function of the bead positions. The model is one potential,
     E = sum_cells E_fluid(A_fluid) + sum_cells sum_walls E_wall(chord, rest) + E_LJ,
 
 with the fluid at fixed mass (the Tait law of doc/model.md and of the MFC's fast variant),
-walls stiff in stretch and buckling at a constant (Euler) force when shorter than their
-contracted rest length, and LJ repulsion between beads that were not neighbours in the
+walls stiff in stretch that buckle when shorter than their contracted rest length
+(pushing with a constant, Euler-type force plus an optional soft stiffness), and LJ
+repulsion between beads that were not neighbours in the
 fresh tissue. Topology (neighbours, triangles, ghost points closing the boundary cells) is
 fixed once from the built tissue: the middle lamella glues cells for good.
 
@@ -37,6 +38,8 @@ CUTOFF = model.CUTOFF_LJ
 #: - buckle: force (N) at which a wall shorter than its rest length buckles; the Euler
 #:   load 4 pi^2 EI / l^2 of the MFC's wall (EI = E t^3 H / 12, t = 1 um) over a fresh
 #:   wall of x_ref / sqrt(3) is 8.6e-7 N
+#: - soft: stiffness of a buckled wall against further shortening, as a fraction of its
+#:   stretch stiffness EA / l (0: the constant Euler-type force alone)
 #: - beta_a, beta_b: periphery factor beta(s) = beta_a + beta_b ln s on the ghost points
 #: - lamella: the width of the strip along each wall that is not fluid, as a fraction of
 #:   the pectin layer d_p (1/2: the dual polygon reaches to the middle of the lamella)
@@ -288,7 +291,9 @@ def at_level(geo, s):
 
 def energy(x, lev, gradient=True):
     """Total energy (J) of bead positions ``x`` (n, 2) at level ``lev`` (:func:`at_level`)
-    and, with ``gradient``, dE/dx (n, 2) (minus the forces)."""
+    and, with ``gradient``, dE/dx (n, 2) (minus the forces). A state in which some cell's
+    fluid area is not positive has infinite energy (and a NaN gradient): the solvers treat
+    it as a rejected step."""
     mat = lev["mat"]
     x = np.asarray(x, float)
     J, area, chord, d = polygons(x, lev)
