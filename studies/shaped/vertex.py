@@ -60,7 +60,38 @@ def energy(U, lev, S):
     va = 0.5 * g_cell[:, None] * np.column_stack([b[:, 1], -b[:, 0]]) - dchord[:, None] * u
     vb = 0.5 * g_cell[:, None] * np.column_stack([-a[:, 1], a[:, 0]]) + dchord[:, None] * u
     gJ = lev["Sa"] @ va + lev["Sb"] @ vb
+    if lev.get("bend", 0.0) > 0:
+        e_b, g_b = bending(J, lev)
+        E += e_b
+        gJ = gJ + g_b
     return E, (S.T @ gJ).ravel()
+
+
+def bending(J, lev):
+    """Wall bending concentrated at the junctions: per cell and junction
+    EI / (2 bend l) (theta - pi/3)^2, theta the polygon's turning angle there and l the
+    wall's fresh rest length (``bend`` the length over which the turning spreads, in walls);
+    returns the energy and its gradient on the per-cell junctions."""
+    ja, jb = lev["ja"], lev["jb"]
+    # edges e (into junction jb[e]) and f (out of it) of the same cell: next edge in order
+    nxt = lev["next_edge"]
+    e1 = J[jb] - J[ja]
+    e2 = J[jb[nxt]] - J[ja[nxt]]
+    theta = np.arctan2(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0],
+                       e1[:, 0] * e2[:, 0] + e1[:, 1] * e2[:, 1])
+    k = lev["EI"] / (lev["bend"] * lev["rest0"])
+    dth = theta - np.pi / 3
+    E = float(np.sum(0.5 * k * dth ** 2))
+    c = (k * dth)[:, None]
+    de1 = -np.column_stack([-e1[:, 1], e1[:, 0]]) / np.sum(e1 * e1, axis=1)[:, None]
+    de2 = np.column_stack([-e2[:, 1], e2[:, 0]]) / np.sum(e2 * e2, axis=1)[:, None]
+    nj = J.shape[0]
+    g = np.zeros((nj, 2))
+    for col in range(2):
+        g[:, col] += np.bincount(ja, -c[:, 0] * de1[:, col], minlength=nj)
+        g[:, col] += np.bincount(jb, c[:, 0] * (de1[:, col] - de2[:, col]), minlength=nj)
+        g[:, col] += np.bincount(jb[nxt], c[:, 0] * de2[:, col], minlength=nj)
+    return E, g
 
 
 def centroids(U, lev, S):
@@ -76,18 +107,28 @@ def main(argv=None):
     ap.add_argument("--tissue", default="calibration")
     ap.add_argument("--params", default='{"buckle": 8.6e-7, "soft": 0.0}')
     ap.add_argument("--levels", default="1,0.8,0.6,0.4,0.3")
+    ap.add_argument("--bend", type=float, default=0.0, help="junction bending: the length "
+                    "(in walls) over which a junction's turning spreads; 0: none. The "
+                    "buckled walls then push with their Euler load pi^2 EI / r^2")
     args = ap.parse_args(argv)
     params = dict(shaped.DEFAULTS, EA_ratio=1.0, **json.loads(args.params))
     params.pop("wall_EA")
     mat, xy = table.layout(args.tissue)
     geo = shaped.build(xy, mat, table.wall_params(mat, params))
     U, S = vertex_geometry(geo)
+    # the edge after each edge in its cell's polygon (ja of the next = jb of this)
+    start = {(c, a): e for e, (c, a) in enumerate(zip(geo["cell"], geo["ja"]))}
+    next_edge = np.array([start[(c, b)] for c, b in zip(geo["cell"], geo["jb"])])
+    EI = (660.0 if mat["diameter"] > 175e-6 else 330.0) * 1e-12 * mat["height"] / 12
     L = mat["x_ref"]
     rng = np.random.default_rng(1)
     ref0 = table.mfc(args.tissue, 1.0)
     out = []
     for s in (float(v) for v in args.levels.split(",")):
         lev = shaped.at_level(geo, s)
+        lev.update(next_edge=next_edge, EI=EI, bend=args.bend)
+        if args.bend > 0:
+            lev["buckle"] = np.pi ** 2 * EI / lev["rest"] ** 2
         t0 = time.time()
         U = U + (rng.uniform(-1e-7, 1e-7, U.shape) if s < 1 else 0)
         c0 = U.mean(axis=0)
