@@ -201,7 +201,7 @@ def test_drying_under_mpi(tmp_path):
     for tag, cmd in (("serial", [sys.executable]),
                      ("np2", ["mpirun", "--oversubscribe", "-np", "2", sys.executable])):
         proc = subprocess.run(cmd + [str(script), tag], cwd=tmp_path, env=env,
-                              capture_output=True, text=True, timeout=600)
+                              capture_output=True, text=True, timeout=1800)
         assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
     serial, parallel = (json.loads((tmp_path / f"rows.{tag}.json").read_text())
                         for tag in ("serial", "np2"))
