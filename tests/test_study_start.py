@@ -246,10 +246,15 @@ def test_fit_script_passes_the_ramp_and_lifts_the_lj_slope_bound(tmp_path, monke
 @pytest.mark.lammps
 def test_newton_and_fire_ramps_land_on_the_same_states(small_tissue, tmp_path):
     """Two solvers of the same steady-state equations along the same ramp (measured: 1e-7
-    x_ref apart at s = 0.6 and 0.4, 2e-6 at s = 1, FIRE's noise)."""
+    x_ref apart at s = 0.6 and 0.4, 2e-6 at s = 1). The tolerance is the stopping rules'
+    (tests/README.md, "Tolerances across configurations"): FIRE leaves every bead's force
+    below 1e-13 N and Newton every component, (sqrt(n) + sqrt(2n)) 1e-13 = 1.4e-12 N
+    together (n = 33), which moves a bead by at most that times the largest block row of
+    the inverse stiffness (rigid motions removed; 9.5e6 x_ref/N at s = 1, the softest
+    level; 1.5e6 at s = 0.6): 1.3e-5 x_ref, asserted 2e-5."""
     fire = ramp(small_tissue, tmp_path / "fire")
     newton = study.sweep(small_tissue, APPLE, tmp_path / "newton", levels=(1.0, 0.6, 0.4),
                          progress=False, start="previous", method="newton", overrides=STEEP)
-    assert all(r["converged"] for r in newton)
+    assert all(r["converged"] for r in newton) and all(r["converged"] for r in fire)
     apart = [np.abs(a["xy"] - b["xy"]).max() / MAT["x_ref"] for a, b in zip(fire, newton)]
-    assert max(apart) < 1e-5, apart
+    assert max(apart) < 2e-5, apart
