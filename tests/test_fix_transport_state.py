@@ -266,9 +266,9 @@ def test_adaptive_step_keeps_moisture_non_negative(tmp_path):
     assert table[-1, 1] == pytest.approx(x_eq, rel=1e-6)
 
 
-def test_coupled_long_step_is_blamed_on_dt(tmp_path):
-    """Coupled to fix cgms/fluid, a too-long moisture step used to surface as a mechanics
-    error advising a smaller MD timestep; the transport now refuses it by its keyword."""
+def run_coupled(tmp_path, dt):
+    """A 42-bead tissue relaxed fresh, then dried by the transport with moisture steps of dt
+    seconds, its dryness handed to fix cgms/fluid every 500 MD steps."""
     from cgmstest import APPLE, XREF
     tissue.write_data(tmp_path / "c.data", tissue.hex_rectangle(6, 7, XREF), 4 * XREF,
                       overwrite=True)
@@ -276,10 +276,16 @@ def test_coupled_long_step_is_blamed_on_dt(tmp_path):
                       "neigh_modify every 1 delay 0 check yes", "pair_style cgms",
                       f"pair_coeff * * {APPLE}", "fix fluid all cgms/fluid dryness 1.0",
                       "fix nve all nve", "fix 2d all enforce2d", "timestep 1e-7", "run 2000",
-                      f"fix tr all cgms/transport {PARAMS_FILE} layers 4 dt 3600 outline no "
+                      f"fix tr all cgms/transport {PARAMS_FILE} layers 4 dt {dt} outline no "
                       "every 500", "variable s atom f_tr[1]",
                       "fix fluid all cgms/fluid dryness v_s every 500", "run 2000"]
-    proc = run(tmp_path, lines, check=False)
+    return run(tmp_path, lines, check=False)
+
+
+def test_coupled_long_step_is_blamed_on_dt(tmp_path):
+    """Coupled to fix cgms/fluid, a too-long moisture step used to surface as a mechanics
+    error advising a smaller MD timestep; the transport now refuses it by its keyword."""
+    proc = run_coupled(tmp_path, 3600)
     error = first_error(proc)
     assert "Fix cgms/transport" in error and "(keyword dt)" in error, proc.stdout[-2000:]
     assert "timestep" not in error
@@ -289,17 +295,7 @@ def test_coupled_step_too_long_for_the_mechanics_names_dt(tmp_path):
     """A moisture step that keeps the moisture non-negative (dt 900) but moves the dryness
     further in one change than the mechanics' turgor force can follow stops in fix
     cgms/fluid; its cure names the transport's step keywords, not only the MD timestep."""
-    from cgmstest import APPLE, XREF
-    tissue.write_data(tmp_path / "c.data", tissue.hex_rectangle(6, 7, XREF), 4 * XREF,
-                      overwrite=True)
-    lines = head() + ["comm_modify vel yes", "read_data c.data", "neighbor 1.5e-5 bin",
-                      "neigh_modify every 1 delay 0 check yes", "pair_style cgms",
-                      f"pair_coeff * * {APPLE}", "fix fluid all cgms/fluid dryness 1.0",
-                      "fix nve all nve", "fix 2d all enforce2d", "timestep 1e-7", "run 2000",
-                      f"fix tr all cgms/transport {PARAMS_FILE} layers 4 dt 900 outline no "
-                      "every 500", "variable s atom f_tr[1]",
-                      "fix fluid all cgms/fluid dryness v_s every 500", "run 2000"]
-    proc = run(tmp_path, lines, check=False)
+    proc = run_coupled(tmp_path, 900)
     error = first_error(proc)
     assert "Fix cgms/fluid" in error and "change of dryness" in error, proc.stdout[-2000:]
     assert "fix cgms/transport" in error and "dt or adapt" in error
