@@ -159,7 +159,28 @@ def test_dried_data_file_is_not_restarted_fresh(tmp_path):
         "fix fluid all cgms/fluid dryness v_s every 500", "fix nve all nve",
         "fix 2d all enforce2d", "timestep 1e-7", "run 1"]), check=False)
     error = first_error(proc)
-    assert "has a dryness below 1" in error and "restart file" in error, proc.stdout[-2000:]
+    assert "had dried it" in error and "restart file" in error, proc.stdout[-2000:]
+
+
+def test_data_file_of_the_transport_alone_is_not_restarted_fresh(tmp_path):
+    """The transport alone (no fix cgms/fluid, so no fluid state in the data file shows the
+    tissue dried): the note write_data leaves in the file is what read_data's scan finds,
+    and the transport refuses to start the tissue at X0, naming the file's line; with that
+    line deleted (the user's explicit choice) the tissue starts afresh."""
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + [f"fix tr all cgms/transport {ARGS}", "run 10", "write_data dried.data nocoeff"])
+    assert "data files cannot carry the tissue's moisture columns" in proc.stdout
+    again = head() + ["read_data dried.data"] + forces() + [f"fix tr all cgms/transport {ARGS}",
+                                                            "run 1"]
+    proc = run(tmp_path, again, check=False)
+    error = first_error(proc)
+    assert "written after fix cgms/transport had dried it" in error, proc.stdout[-2000:]
+    text = (tmp_path / "dried.data").read_text().splitlines()
+    line = next(i for i, t in enumerate(text, 1) if t.startswith("# fix cgms/transport"))
+    assert f"dried.data line {line}" in error
+    (tmp_path / "dried.data").write_text(
+        "\n".join(t for t in text if not t.startswith("# fix cgms/transport")) + "\n")
+    run(tmp_path, again)
 
 
 def test_dried_tissue_without_columns_is_refused(tmp_path):

@@ -27,6 +27,7 @@ static constexpr char FIELD[] = "cgms";
 AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) :
     AtomVec(lmp), rmass(nullptr), cgms(nullptr), scanned_natoms(-1), scanned_awaits(false)
 {
+  CGMS::dropped_columns_note(lmp).clear();
   molecular = Atom::ATOMIC;
   mass_type = PER_ATOM;
   atom->rmass_flag = 1;
@@ -222,10 +223,18 @@ bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &sec
   // the first line is the title; a section starts at a line of its name alone (plus a
   // comment). Most lines are numbers: compared as characters, without a copy
   const char *blank = " \t\r\n";
+  std::string &note = CGMS::dropped_columns_note(lmp);
+  note.clear();
+  const auto look_for_note = [&](const char *start) {
+    if (*start == '#' && strncmp(start, CGMS::DROPPED_COLUMNS_NOTE,
+                                 strlen(CGMS::DROPPED_COLUMNS_NOTE)) == 0)
+      note = fmt::format("{} line {}", file, number);
+  };
   while (utils::fgets_trunc(line, MAXLINE, fp)) {
     number++;
     if (number == 1) continue;
     const char *start = line + strspn(line, blank);
+    look_for_note(start);
     if (strncmp(start, section.c_str(), section.size()) != 0) continue;
     const char *rest = start + section.size();
     rest += strspn(rest, blank);
@@ -262,6 +271,11 @@ bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &sec
                    "writes them so)",
                    file, id, section, seen.first->second, number);
       }
+    }
+    // the rest of the file, for the transport's note after the section
+    while (utils::fgets_trunc(line, MAXLINE, fp)) {
+      number++;
+      look_for_note(line + strspn(line, blank));
     }
   }
   close();

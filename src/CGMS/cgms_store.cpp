@@ -36,6 +36,14 @@ double **&CGMS::bead_array(LAMMPS *lmp)
 
 /* ---------------------------------------------------------------------- */
 
+std::string &CGMS::dropped_columns_note(LAMMPS *lmp)
+{
+  static std::map<LAMMPS *, std::string> notes;
+  return notes[lmp];
+}
+
+/* ---------------------------------------------------------------------- */
+
 void CGMS::require_cgms_system(LAMMPS *lmp, const char *who)
 {
   if (strcmp(lmp->update->unit_style, "si") != 0)

@@ -10,6 +10,8 @@
 
 #include "lmptype.h"
 
+#include <string>
+
 namespace LAMMPS_NS {
 
 class LAMMPS;
@@ -80,6 +82,15 @@ namespace CGMS {
   // styles register members of Atom, which a plugin cannot add. A map keyed
   // by the instance keeps it alive as long as the process.
   double **&bead_array(LAMMPS *lmp);
+
+  // The comment write_data leaves where fix cgms/transport's moisture columns
+  // would be (no data-file line can hold a column); read_data's scan of the
+  // file (atom_style cgms) records where it found one, "file line N", or ""
+  // when the file had none, so that the transport does not restart such a
+  // tissue at X0 without a word. One per LAMMPS instance, reset with the
+  // atom style (clear, atom_style) and by every read_data.
+  constexpr char DROPPED_COLUMNS_NOTE[] = "# fix cgms/transport";
+  std::string &dropped_columns_note(LAMMPS *lmp);
 
   // stop with an ERROR unless the system is what CGMS styles need:
   // units si, dimension 2, atom_style cgms

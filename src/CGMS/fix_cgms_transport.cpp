@@ -653,6 +653,22 @@ void FixCGMSTransport::check_not_dried()
     const bool read = data && data[i][CGMS::MF0] > 0.0 && data[i][CGMS::DRYNESS] < 1.0;
     if (held || read) dried = MIN(dried, atom->tag[i]);
   }
+  // the data file said where the columns were dropped (every rank that read it)
+  const std::string &note = CGMS::dropped_columns_note(lmp);
+  int local = note.empty() ? 0 : 1, noted;
+  MPI_Allreduce(&local, &noted, 1, MPI_INT, MPI_MAX, world);
+  if (noted && !note.empty())
+    error->one(FLERR,
+               "Fix cgms/transport: the tissue was read from a data file written after fix "
+               "cgms/transport had dried it ({} says its moisture columns are not in the "
+               "file): starting them at X0 would undo its drying. Continue a dried tissue "
+               "from a restart file (write_restart, read_restart); to start its drying "
+               "afresh at X0 on purpose, delete that line from the data file",
+               note);
+  else if (noted)
+    error->all(FLERR, "Fix cgms/transport: the tissue was read from a data file written after "
+                      "fix cgms/transport had dried it, without its moisture columns: continue "
+                      "it from a restart file");
   tagint first;
   MPI_Allreduce(&dried, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
   if (first != MAXTAGINT)
@@ -1445,9 +1461,9 @@ void FixCGMSTransport::write_data_section_keyword(int, FILE *fp)
 {
   if (initialised)
     fmt::print(fp,
-               "\n# fix cgms/transport {}: the moisture columns ({:.6g} s of drying, X/X0 "
-               "{:.6g}) are not in this file; a restart file carries them\n",
-               id, time, vec[2]);
+               "\n{} {}: the moisture columns ({:.6g} s of drying, X/X0 {:.6g}) are not in "
+               "this file; a restart file carries them\n",
+               CGMS::DROPPED_COLUMNS_NOTE, id, time, vec[2]);
 }
 
 void FixCGMSTransport::write_data_section(int, FILE *, int, double **, int) {}
