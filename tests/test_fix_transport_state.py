@@ -126,6 +126,22 @@ def test_restart_under_another_id(tmp_path, reference):
     same((rows(proc.stdout), dump_b), reference)
 
 
+@pytest.mark.parametrize("layers", [LAYERS + 4, LAYERS - 2])
+def test_restart_with_other_layers_is_refused_first(tmp_path, layers):
+    """A restart file's columns hold LAYERS layers; a fix of another layer count defined
+    after read_restart is refused before its store is made (LAMMPS hands a new fix
+    property/atom as many values as it holds, so a larger store read past the file's rows
+    into uninitialised memory and ran on without a word: valgrind, 7 errors)."""
+    run(tmp_path, head() + ["read_data t.data"] + forces() + [f"fix tr all cgms/transport {ARGS}",
+                                                              "run 5", "write_restart r.restart"])
+    other = ARGS.replace(f"layers {LAYERS}", f"layers {layers}")
+    proc = run(tmp_path, [f"plugin load {PLUGIN}", "read_restart r.restart"] + forces()
+               + [f"fix dry all cgms/transport {other}", "run 1"], check=False)
+    error = first_error(proc)
+    assert f"the state of {LAYERS} layers; this fix has layers {layers}" in error, \
+        proc.stdout[-2000:]
+
+
 def coupled(data, lines):
     """A 42-bead CGMS tissue whose fix cgms/fluid takes its dryness from the transport."""
     from cgmstest import APPLE

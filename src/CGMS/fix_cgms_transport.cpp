@@ -382,9 +382,12 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
 
 void FixCGMSTransport::post_constructor()
 {
-  if (!modify->get_fix_by_id(STATE_FIX))
+  if (!modify->get_fix_by_id(STATE_FIX)) {
+    const int stored = restart_store_size();
+    if (stored > 0 && stored != nstore) refuse_store_size(stored);
     modify->add_fix(fmt::format("{} all property/atom d2_{} {} writedata no", STATE_FIX,
                                 STATE_PROPERTY, nstore));
+  }
   bind_state();
   check_state_layout();
   for (int i = 0; i < atom->nlocal; i++) set_output(i);
@@ -578,12 +581,46 @@ void FixCGMSTransport::bind_state()
   if (istate < 0 || flag != 1 || cols < 0)
     error->all(FLERR, "Fix cgms/transport: fix {} must hold the per-atom array d2_{}", STATE_FIX,
                STATE_PROPERTY);
-  if (cols != nstore)
-    error->all(FLERR,
-               "Fix cgms/transport: fix {} holds the tissue's moisture columns with {} values "
-               "per bead, the state of {} layers; this fix has layers {}: give layers {} (or "
-               "unfix {} to start the tissue afresh at X0)",
-               STATE_FIX, cols, cols - NHEAD - 3, layers, cols - NHEAD - 3, STATE_FIX);
+  if (cols != nstore) refuse_store_size(cols);
+}
+
+void FixCGMSTransport::refuse_store_size(int cols)
+{
+  error->all(FLERR,
+             "Fix cgms/transport: fix {} holds the tissue's moisture columns with {} values "
+             "per bead, the state of {} layers; this fix has layers {}: give layers {} (or "
+             "unfix {} to start the tissue afresh at X0)",
+             STATE_FIX, cols, cols - NHEAD - 3, layers, cols - NHEAD - 3, STATE_FIX);
+}
+
+/* ----------------------------------------------------------------------
+   after read_restart the store's rows wait in atom->extra, one set per fix
+   of the restart file, each [count, values...]. LAMMPS hands a new fix
+   property/atom as many values as it holds, whatever the set's count, so a
+   store of another size would read past its set: find the set by its
+   layout (a count that matches the layers its row records) and refuse
+   another size before the store is made. -1: no such set.
+------------------------------------------------------------------------- */
+
+int FixCGMSTransport::restart_store_size() const
+{
+  int local = -1;
+  if (modify->nfix_restart_peratom > 0 && atom->extra && atom->nlocal > 0) {
+    const double *set = atom->extra[0];
+    int m = 0;
+    for (int j = 0; j < modify->nfix_restart_peratom; j++) {
+      const int count = static_cast<int>(set[m]);
+      if (count < 1 || m + count > atom->nextra_store) break;
+      const double stored_layers = count > 1 + NHEAD ? set[m + 1 + R_LAYERS] : 0.0;
+      if (stored_layers >= 1.0 && stored_layers <= MAX_LAYERS &&
+          count == 1 + NHEAD + static_cast<int>(stored_layers) + 3)
+        local = count - 1;
+      m += count;
+    }
+  }
+  int size;
+  MPI_Allreduce(&local, &size, 1, MPI_INT, MPI_MAX, world);
+  return size;
 }
 
 /* ----------------------------------------------------------------------

@@ -115,6 +115,8 @@ class FixCGMSTransport : public Fix {
   double *column(int i) const;
   bool has_column(int i) const;
   void bind_state();
+  int restart_store_size() const;
+  void refuse_store_size(int cols);
   void check_state_layout();
   void check_columns();
   void check_not_dried();
