@@ -256,6 +256,23 @@ def test_bead_created_in_a_freed_slot_is_refused(tmp_path):
         proc.stdout[-2000:]
 
 
+@pytest.mark.parametrize("deleted", ["6", "1:10"])
+def test_bead_created_while_no_transport_is_defined_is_refused(tmp_path, deleted):
+    """The same with the transport fix undefined (unfix) while beads are deleted and
+    created: its store stays, and nothing of the transport marks the new bead. atom_style
+    cgms clears a new bead's row of the store, so the fix defined again finds a bead
+    without a column and refuses it, instead of drying it on with a deleted bead's
+    column."""
+    xy = jittered()
+    x, y = xy[5]
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + [f"fix tr all cgms/transport {ARGS}"] + outputs()
+               + ["run 2", "unfix tr", f"group gone id {deleted}", "delete_atoms group gone",
+                  f"create_atoms 1 single {x!r} {y!r} 0.0 units box",
+                  f"fix tr all cgms/transport {ARGS}", "run 2"], check=False)
+    assert "has no moisture column" in first_error(proc), proc.stdout[-2000:]
+
+
 def test_migration_sorting_and_redefinition_on_two_ranks(tmp_path, reference):
     """On 2 ranks, beads cross between them (balance moves the cut), are sorted, and the
     fix is defined again on the rank that received them: the result equals the serial run

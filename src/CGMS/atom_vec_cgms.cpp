@@ -135,7 +135,7 @@ void AtomVecCGMS::create_atom_post(int ilocal)
   rmass[ilocal] = 1.0;
   for (int k = 0; k < CGMS::NSTATE; k++) cgms[ilocal][k] = 0.0;
   cgms[ilocal][CGMS::MF0] = CGMS::NO_STATE;
-  clear_data_row(ilocal);
+  clear_custom_rows(ilocal);
 }
 
 /* ----------------------------------------------------------------------
@@ -161,12 +161,14 @@ void AtomVecCGMS::pack_data(double **buf)
 
 /* ---------------------------------------------------------------------- */
 
-void AtomVecCGMS::clear_data_row(int ilocal)
+void AtomVecCGMS::clear_custom_rows(int ilocal)
 {
-  int flag, cols;
-  const int index = atom->find_custom(CGMS::DATA_PROPERTY, flag, cols);
-  if (index < 0 || flag != 1) return;
-  for (int k = 0; k < cols; k++) atom->darray[index][ilocal][k] = 0.0;
+  for (const char *name : {CGMS::DATA_PROPERTY, CGMS::TRANSPORT_PROPERTY}) {
+    int flag, cols;
+    const int index = atom->find_custom(name, flag, cols);
+    if (index < 0 || flag != 1) continue;
+    for (int k = 0; k < cols; k++) atom->darray[index][ilocal][k] = 0.0;
+  }
 }
 
 /* ----------------------------------------------------------------------

@@ -56,7 +56,7 @@ class AtomVecCGMS : public AtomVec {
   bigint scanned_natoms;
   bool scanned_awaits;
 
-  void clear_data_row(int);
+  void clear_custom_rows(int);
   bool data_file_brings_state();
   bool scan_data_file(const std::string &, const std::string &, bool);
 };

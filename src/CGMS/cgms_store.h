@@ -74,6 +74,12 @@ namespace CGMS {
   constexpr char DATA_FIX[] = "CGMS";
   constexpr char DATA_PROPERTY[] = "cgms_data";
 
+  // The per-atom array of fix cgms/transport's state store (a fix property/atom
+  // that outlives the transport fix): a bead created into a freed slot while no
+  // transport fix is defined would find a deleted bead's row there, so atom_style
+  // cgms clears it, as the data row, for every new bead
+  constexpr char TRANSPORT_PROPERTY[] = "cgms_transport";
+
   // The pointer to the per-bead array, one per LAMMPS instance. Atom keeps
   // its address (Atom::add_peratom) and grows, copies and frees the array
   // through it, also after the AtomVec that registered it is gone (a second

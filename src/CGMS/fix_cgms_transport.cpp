@@ -45,7 +45,7 @@ enum { MODE_STATE, MODE_DIRECTION, MODE_SHIFT };
 
 // the fix property/atom that holds every bead's transport state, and its array
 constexpr char STATE_FIX[] = "CGMS_TRANSPORT";
-constexpr char STATE_PROPERTY[] = "cgms_transport";
+constexpr const char *STATE_PROPERTY = CGMS::TRANSPORT_PROPERTY;
 // the columns of a bead's row there: first the run's global state, the same in
 // every row (fix property/atom holds no global values, and so restart files, data
 // files, migration, sorting and atom deletion carry it with the beads), then the
