@@ -8,6 +8,7 @@ them failed (the others would otherwise wait for it in LAMMPS for ever)."""
 
 import os
 import sys
+import traceback
 
 #: the commands that run under mpirun
 COMMANDS = ("dry",)
@@ -64,6 +65,8 @@ class World:
         except Stopped:             # a nested step's failure, already agreed and printed
             raise
         except Exception as err:
+            if os.environ.get("CGMS_DEBUG"):     # where, as cli.main shows it
+                traceback.print_exc()
             value, failed = None, self.failure(err)
         failures = [f for f in self.comm.allgather(failed) if f]
         if failures:
