@@ -32,7 +32,7 @@ die() { printf '[cgms setup] ERROR: %s\n' "$*" >&2; exit 1; }
 # ---------------------------------------------------------------- 1. Debian packages
 APT_PACKAGES=(build-essential cmake xz-utils ca-certificates openmpi-bin libopenmpi-dev
   python3 python3-numpy python3-scipy python3-matplotlib python3-mdanalysis python3-pytest
-  python3-tqdm)
+  python3-tqdm python3-mpi4py)
 
 missing_packages() {
   local p

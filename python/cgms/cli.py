@@ -24,8 +24,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, dry_cli, fitparams, folders, material, mfc_cli, morphology, pictures,
-               plots, positions, study, superpose, tissue)
+from . import (calibrate, dry_cli, fitparams, folders, material, mfc_cli, morphology, parallel,
+               pictures, plots, positions, study, superpose, tissue)
 from .fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
@@ -1055,7 +1055,24 @@ def describe(err):
     return str(err)
 
 
+def failure(err, args):
+    """The exit status and one line of an exception that ends a command."""
+    if isinstance(err, UsageError):
+        return 2, f"cgms {args.command}: {err}"
+    if isinstance(err, study.LammpsError):
+        return 1, f"cgms {args.command}: {lammps_stop(err, args)}"
+    if isinstance(err, (RuntimeError, ValueError, OSError)):
+        # a LAMMPS stop (its whole ERROR line is in the message) or a bad input: say it,
+        # with no traceback; the results so far stay in the folder
+        return 1, f"cgms {args.command}: {describe(err)}"
+    # a fault of cgms itself: still one line, never a traceback
+    return 1, (f"cgms {args.command}: internal error ({type(err).__name__}: {err}); "
+               "CGMS_DEBUG=1 shows where; please report it with the command line")
+
+
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parallel.one_voice(argv)
     args = parser().parse_args(argv)
     try:
         return args.func(args)
@@ -1065,25 +1082,9 @@ def main(argv=None):
         print(f"cgms {args.command}: interrupted; finished results stay in the folder{more}",
               file=sys.stderr)
         return 130
-    except UsageError as err:
-        print(f"cgms {args.command}: {err}", file=sys.stderr)
-        return 2
-    except study.LammpsError as err:
-        if os.environ.get("CGMS_DEBUG"):
+    except Exception as err:
+        if os.environ.get("CGMS_DEBUG") and not isinstance(err, UsageError):
             raise
-        print(f"cgms {args.command}: {lammps_stop(err, args)}", file=sys.stderr)
-        return 1
-    except (RuntimeError, ValueError, OSError) as err:
-        # a LAMMPS stop (its whole ERROR line is in the message) or a bad input: say it,
-        # with no traceback (CGMS_DEBUG=1 shows it); the results so far stay in the folder
-        if os.environ.get("CGMS_DEBUG"):
-            raise
-        print(f"cgms {args.command}: {describe(err)}", file=sys.stderr)
-        return 1
-    except Exception as err:   # a fault of cgms itself: still one line, never a traceback
-        if os.environ.get("CGMS_DEBUG"):
-            raise
-        print(f"cgms {args.command}: internal error ({type(err).__name__}: {err}); "
-              "CGMS_DEBUG=1 shows where; please report it with the command line",
-              file=sys.stderr)
-        return 1
+        status, line = failure(err, args)
+        print(line, file=sys.stderr)
+        return status

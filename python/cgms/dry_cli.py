@@ -10,11 +10,12 @@ the drying rate, A/A0, P/P0, EL/EL0 against time and moisture, surface and core 
 
 import math
 import sys
+from contextlib import ExitStack
 from pathlib import Path
 
 import numpy as np
 
-from . import drying, folders, material, morphology, positions, study, tissue
+from . import drying, folders, material, morphology, parallel, positions, study, tissue
 
 
 #: the longest drying the command runs: a moisture step is at most 10 min
@@ -191,28 +192,51 @@ def _mechanics_range(args, mat_file):
 
 
 def job(args):
+    from .cli import failure
     try:
-        return _job(args)
+        world = parallel.world(lambda err: failure(err, args))
+        return _job(args, world)
+    except parallel.Stopped as stop:        # printed once, by process 0
+        return stop.status
     except KeyboardInterrupt:
         print("cgms dry: interrupted before the drying began; nothing to keep",
               file=sys.stderr)
         return 130
 
 
-def _job(args):
+def _job(args, world):
+    """Under mpirun (``world``: doc/drying.md, Limits) every process checks the options
+    and reads the inputs, and none goes on unless all could; process 0 alone then claims
+    the folder and writes the tissue, and tells the others where."""
+    mat_file, mat, params, s_min, valid_note, t = world.together(lambda: _inputs(args))
+    with ExitStack() as stack:
+        def claim():
+            if world.rank > 0:
+                return None
+            out = stack.enter_context(folders.claim(args.out, "drying"))
+            from .cli import write_tissue
+            return out, write_tissue(out, t, mat)
+
+        out, data = world.first(world.together(claim))
+        status = world.together(lambda: _run(args, params, mat_file, out, data, t, s_min,
+                                             valid_note, world))
+        # the run's own stops are alike on every process, a file process 0 failed to
+        # write is not: the worst status, on all
+        return status if world.comm is None else max(world.comm.allgather(status))
+
+
+def _inputs(args):
+    """The options checked and the inputs read: (material file, material, transport
+    parameters, lowest dryness of the mechanics, its note, tissue)."""
     mat_file = material.find(args.material)
     mat = material.with_overrides(material.read(mat_file), args.set)
     _check(args, mat)
     params = drying.read_params(args.params)
     s_min, valid_note = _mechanics_range(args, mat_file)
-    t = _tissue(args, mat)
-    with folders.claim(args.out, "drying") as out:
-        from .cli import write_tissue
-        data = write_tissue(out, t, mat)
-        return _run(args, params, mat_file, out, data, t, s_min, valid_note)
+    return mat_file, mat, params, s_min, valid_note, _tissue(args, mat)
 
 
-def _run(args, params, mat_file, out, data, t, s_min, valid_note):
+def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
     from . import plots
 
     xy = t["xy"]
@@ -272,6 +296,8 @@ def _run(args, params, mat_file, out, data, t, s_min, valid_note):
     finally:
         if mech is not None:
             mech.close()
+    if world.rank > 0:          # process 0 writes the files and speaks
+        return status
     if rows:
         keys = [k for k in rows[0] if k not in ("centroid", "outline")]
         study.write_csv(rows, out / "drying.csv", columns=keys)
