@@ -312,11 +312,13 @@ def test_restart_continues_the_run(tmp_path):
     assert np.allclose(rows_b[-1][1:], rows_a[-1][1:], rtol=1e-12, atol=1e-16)
     for key in ("f_tr[2]", "f_tr[3]", "f_tr[4]"):
         assert np.abs(dump_a[key] - dump_b[key]).max() < 1e-13
-    # a fix with other columns than the file's is refused, naming both
+    # a fix with other columns than the file's is refused, naming both (before its store
+    # is made: test_fix_transport_state.py::test_restart_with_other_layers_is_refused_first)
     proc = run_lmp(two, "\n".join(head) + "\n" + script(args.replace("layers 4", "layers 5"), 2,
                                                         head=False), check=False)
     error = next((line for line in proc.stdout.splitlines() if "ERROR" in line), "")
-    assert "hold 4 layers" in error and "this fix has layers 5" in error, proc.stdout[-2000:]
+    assert "the state of 4 layers" in error and "this fix has layers 5" in error, \
+        proc.stdout[-2000:]
 
 
 @pytest.mark.parametrize("fix_args, params, message", [
