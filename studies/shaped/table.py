@@ -170,7 +170,7 @@ def worst(rows, levels):
 FREE = ("EA_ratio", "buckle", "soft", "beta_a", "beta_b", "lamella", "kg_ratio")
 
 
-def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped):
+def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped, max_nfev=40):
     """least_squares on the tissue's deviations (A/A0, P/P0, EL/EL0 in %, over the
     targets) and its centroid RMSD (over 10 um) at the dried levels."""
     from scipy.optimize import least_squares
@@ -198,7 +198,7 @@ def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped):
         return res
 
     z0 = [math.log(params[k]) if k in logs else params[k] for k in free]
-    sol = least_squares(resid, z0, diff_step=1e-3, max_nfev=40, xtol=1e-3, ftol=1e-3)
+    sol = least_squares(resid, z0, diff_step=1e-3, max_nfev=max_nfev, xtol=1e-3, ftol=1e-3)
     return unpack(sol.x), sol
 
 
@@ -212,6 +212,7 @@ def main(argv=None):
     ap.add_argument("--fit", default=None, help="tissue to fit the --free parameters on first")
     ap.add_argument("--free", default="buckle,beta_a,beta_b,lamella")
     ap.add_argument("--fit-levels", default="1,0.8,0.6")
+    ap.add_argument("--max-nfev", type=int, default=40, help="evaluations the fit may take")
     ap.add_argument("--csv", default=None)
     args = ap.parse_args(argv)
     model = MODELS[args.model]
@@ -223,7 +224,8 @@ def main(argv=None):
     t0 = time.time()
     if args.fit:
         params, sol = fit(args.fit, params, args.free.split(","),
-                          tuple(float(v) for v in args.fit_levels.split(",")), model)
+                          tuple(float(v) for v in args.fit_levels.split(",")), model,
+                          args.max_nfev)
         print("fitted:", json.dumps(params), f"cost {sol.cost:.3f}, {sol.nfev} evaluations",
               flush=True)
     rows = []
