@@ -17,8 +17,11 @@ with the fluid and wall laws of :mod:`cgms.shaped` (Tait at fixed fluid mass; a 
 stiff in stretch that buckles below its contracted rest length and then pushes with
 ``buckle`` plus ``soft`` EA/r times the excess contour r - l, which it holds in its folds)
 and the middle lamella's compatibility (the bond between two glued cells follows their
-mean deformation). The periphery factor beta(s) scales the rest length of the free
-(ghost) walls. State vector: z = [x (n, 2), F (n, 2, 2)] flattened. Units SI.
+mean deformation). The periphery factor beta(s) scales the compatible bond vector
+(F_i + F_k) d0_ik / 2 of the bonds between two boundary cells, the tissue's rim (the
+paper's beta pulls the boundary beads in; here the free walls hold no tension once they
+buckle, so scaling their rest length would act only while they are stretched). State
+vector: z = [x (n, 2), F (n, 2, 2)] flattened. Units SI.
 """
 
 import math
@@ -43,7 +46,8 @@ def build(xy0, mat, params=None, spacing=None):
     """Everything fixed for a tissue built at ``xy0``: the shaped model's topology, fresh
     fluid areas and rest lengths (:func:`cgms.shaped.build`, at beta = 1), plus each wall's
     fresh vector ``d0`` (edge e of cell ``cell[e]``), each cell's fresh polygon area, the
-    fresh bonds with their vectors, and the compatibility map ``C`` (mismatch = C z)."""
+    fresh bonds with their vectors, and the compatibility maps: the mismatch is
+    ``Cx z - f Cf z``, f = beta(s) on rim bonds (both cells on the boundary), else 1."""
     p = dict(DEFAULTS, **(params or {}))
     geo = shaped.build(xy0, mat, {k: v for k, v in p.items() if k in shaped.DEFAULTS},
                        spacing)
@@ -60,35 +64,40 @@ def build(xy0, mat, params=None, spacing=None):
     geo["bond0"] = x0[bonds[:, 1]] - x0[bonds[:, 0]]
     geo["k_g"] = p["kg_ratio"] * p["wall_EA"] / mat["x_ref"]
     geo["kg_ratio"] = p["kg_ratio"]
-    # mismatch m_b (2 per bond) = x_k - x_i - (F_i + F_k) d0 / 2, linear in z
+    # mismatch m_b (2 per bond) = x_k - x_i - f (F_i + F_k) d0 / 2, linear in z
     nbd = len(bonds)
-    rows, cols, vals = [], [], []
+    rx, cx, vx, rf, cf, vf = [], [], [], [], [], []
     for c in range(2):
         r = 2 * np.arange(nbd) + c
         for idx, sgn in ((bonds[:, 1], 1.0), (bonds[:, 0], -1.0)):
-            rows.append(r)
-            cols.append(2 * idx + c)
-            vals.append(np.full(nbd, sgn))
+            rx.append(r)
+            cx.append(2 * idx + c)
+            vx.append(np.full(nbd, sgn))
         for idx in (bonds[:, 0], bonds[:, 1]):
             for col in range(2):   # F[idx, c, col] d0[col]
-                rows.append(r)
-                cols.append(2 * n + 4 * idx + 2 * c + col)
-                vals.append(-0.5 * geo["bond0"][:, col])
-    geo["C"] = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
-                                                     np.concatenate(cols))),
-                             shape=(2 * nbd, 6 * n))
+                rf.append(r)
+                cf.append(2 * n + 4 * idx + 2 * c + col)
+                vf.append(0.5 * geo["bond0"][:, col])
+    shape = (2 * nbd, 6 * n)
+    geo["Cx"] = sp.csr_matrix((np.concatenate(vx), (np.concatenate(rx), np.concatenate(cx))),
+                              shape=shape)
+    geo["Cf"] = sp.csr_matrix((np.concatenate(vf), (np.concatenate(rf), np.concatenate(cf))),
+                              shape=shape)
+    geo["rim"] = geo["boundary"][bonds[:, 0]] & geo["boundary"][bonds[:, 1]]
     return geo
 
 
 def at_level(geo, s):
-    """Per level: fluid rest area s A_f0, turgor s P_f, rest lengths contracted by eqn (9)
-    and, on free walls, scaled by beta(s) = beta_a + beta_b ln s; LJ radius r(s)."""
+    """Per level: fluid rest area s A_f0, turgor s P_f, rest lengths contracted by eqn (9),
+    the compatibility map C with the rim bonds' factor beta(s) = beta_a + beta_b ln s, LJ
+    radius r(s)."""
     mat = geo["mat"]
     beta = geo["beta_a"] + geo["beta_b"] * math.log(s)
     rest = geo["rest0"] * float(model.perimeter_contraction(mat, s))
-    rest = np.where(geo["ghost"], beta * rest, rest)
+    f = np.repeat(np.where(geo["rim"], beta, 1.0), 2)
+    C = sp.csr_matrix(geo["Cx"] - sp.diags(f) @ geo["Cf"])
     return dict(geo, s=s, beta=beta, A_f=s * geo["A_f0"], P_T=s * mat["P_f"], rest=rest,
-                r_lj=float(model.lj_radius(mat, s)))
+                C=C, r_lj=float(model.lj_radius(mat, s)))
 
 
 def split(z, n):
