@@ -68,6 +68,21 @@ def mfc(name, s):
     return xy, cells
 
 
+def ensemble(folder, s):
+    """The MFC ensemble of the calibration tissue at level s (branch ``measures``,
+    reference/mfc/calibration/ensemble): {measure: (mean, sd)}, mean centroids, or None."""
+    folder = Path(folder)
+    path = folder / f"centroids.s{s:g}.txt"
+    if not path.is_file():
+        return None
+    stats = {}
+    for line in (folder / "measures.csv").read_text().splitlines()[1:]:
+        f = line.split(",")
+        if float(f[0]) == s:
+            stats[f[1]] = (float(f[3]), float(f[4]) if f[4] else np.nan)
+    return stats, np.loadtxt(path)[:, 1:3]
+
+
 def measures(xy):
     nearest = np.sort(np.linalg.norm(xy[:, None] - xy[None], axis=-1), axis=1)[:, 1]
     with warnings.catch_warnings():
@@ -87,7 +102,7 @@ def wall_params(mat, params):
     return p
 
 
-def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped):
+def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped, ens=None):
     """Rows of one tissue along the ramp: one dict per level."""
     mat, xy = layout(name)
     t0 = time.time()
@@ -130,6 +145,15 @@ def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped):
             row["MFC cell_perim"] = float(np.mean(cells["perimeter"] / cells0["perimeter"]))
             row["MFC cell_elong"] = float(np.mean(cells["elongation"]))
             row["MFC cell_elong_sd"] = float(np.std(cells["elongation"]))
+        got_ens = ensemble(ens, s) if ens and name == "calibration" else None
+        if got_ens is not None:
+            stats, mean_xy = got_ens
+            for k in KEYS:
+                mean, sd = stats[k]
+                row[f"ens {k}"] = mean
+                row[f"ens z {k}"] = (got[k] - mean) / sd if sd > 0 else np.nan
+            row["ens rmsd_um"] = superpose.rmsd(x, mean_xy, "rigid") * 1e6
+            row["ens floor_um"] = stats["floor_um"][0] if "floor_um" in stats else np.nan
         rows.append(row)
     return rows
 
@@ -214,6 +238,8 @@ def main(argv=None):
     ap.add_argument("--fit-levels", default="1,0.8,0.6")
     ap.add_argument("--max-nfev", type=int, default=40, help="evaluations the fit may take")
     ap.add_argument("--csv", default=None)
+    ap.add_argument("--ensemble", default=None, help="folder of the calibration tissue's MFC "
+                    "ensemble (measures.csv, centroids.s<s>.txt) to judge against its spread")
     args = ap.parse_args(argv)
     model = MODELS[args.model]
     params = dict(model.DEFAULTS)
@@ -230,13 +256,19 @@ def main(argv=None):
               flush=True)
     rows = []
     for name in args.tissues.split(","):
-        rows += run(name, params, levels, model=model)
+        rows += run(name, params, levels, model=model, ens=args.ensemble)
         print(f"{name}: {rows[-1]['seconds']:.1f} s", file=sys.stderr, flush=True)
     print_rows(rows)
     for lv in ((0.8,), (0.6,), (0.4,), (0.3,)):
         w = worst(rows, lv)
         print(f"s = {lv[0]:g}: largest |dev| " + ", ".join(f"{k} {w[k]:.2f} %" for k in KEYS)
               + f", RMSD {w['rmsd_um']:.1f} um")
+    for r in rows:
+        if "ens A/A0" in r:
+            print(f"ensemble s = {r['s']:g}: " + ", ".join(
+                f"{k} {r[f'shaped {k}']:.4f} vs {r[f'ens {k}']:.4f} ({r[f'ens z {k}']:+.1f} sd)"
+                for k in KEYS) + f"; RMSD to the mean centroids {r['ens rmsd_um']:.1f} um "
+                f"(floor {r['ens floor_um']:.1f})")
     print(f"params {json.dumps(params)}; {time.time() - t0:.1f} s")
     if args.csv:
         import csv
