@@ -303,15 +303,8 @@ def energy(x, lev, gradient=True):
     H, K = mat["height"], mat["K"]
     e_f = fluid_energy(A, lev["A_f"], lev["P_T"], K, H)
     e_w, de_w = wall_energy(chord, lev["rest"], lev["wall_EA"], lev["buckle"], lev["soft"])
-    E = e_f.sum() + e_w.sum()
-    # LJ repulsion between beads that were not fresh neighbours (reference.py's form)
-    i, k = lev["pairs"][:, 0], lev["pairs"][:, 1]
-    dv = x[i] - x[k]
-    r = np.hypot(dv[:, 0], dv[:, 1])
-    close = r < lev["r_lj"]
-    q = lev["r_lj"] / r[close]
-    f0 = mat["f0_r"]
-    E += np.sum(f0 * (q ** 8 / 8 - q ** 4 / 4 + 1 / 8))
+    E_lj, g_lj = lj_energy(x, lev)
+    E = e_f.sum() + e_w.sum() + E_lj
     if not gradient:
         return E
     # d/dJ: fluid (dE/dA = -H P), through the area and the strip; walls through chords
@@ -324,15 +317,56 @@ def energy(x, lev, gradient=True):
     va = 0.5 * g_cell[:, None] * np.column_stack([b[:, 1], -b[:, 0]]) - dchord[:, None] * u
     vb = 0.5 * g_cell[:, None] * np.column_stack([-a[:, 1], a[:, 0]]) + dchord[:, None] * u
     gJ = lev["Sa"] @ va + lev["Sb"] @ vb
-    g = (lev["M"].T @ gJ.ravel()).reshape(-1, 2)
-    # LJ: dE/dr = f0 (-q^8 + q^4) / r
+    g = (lev["M"].T @ gJ.ravel()).reshape(-1, 2) + g_lj
+    return E, g
+
+
+def lj_energy(x, lev):
+    """LJ repulsion between beads that were not fresh neighbours (reference.py's form,
+    repulsive branch only): energy and its gradient (n, 2)."""
+    i, k = lev["pairs"][:, 0], lev["pairs"][:, 1]
+    dv = x[i] - x[k]
+    r = np.hypot(dv[:, 0], dv[:, 1])
+    close = r < lev["r_lj"]
+    q = lev["r_lj"] / r[close]
+    f0 = lev["mat"]["f0_r"]
+    E = np.sum(f0 * (q ** 8 / 8 - q ** 4 / 4 + 1 / 8))
+    # dE/dr = f0 (-q^8 + q^4) / r
     dEdr = f0 * (-(q ** 8) + q ** 4) / r[close]
     gp = (dEdr / r[close])[:, None] * dv[close]
-    n = lev["n"]
+    g = np.zeros_like(x)
     for c in range(2):
-        g[:, c] += np.bincount(i[close], gp[:, c], minlength=n) - \
-            np.bincount(k[close], gp[:, c], minlength=n)
+        g[:, c] = np.bincount(i[close], gp[:, c], minlength=lev["n"]) - \
+            np.bincount(k[close], gp[:, c], minlength=lev["n"])
     return E, g
+
+
+def lj_hessian(x, lev):
+    """The exact second derivative of :func:`lj_energy` (2n, 2n, sparse CSR)."""
+    n = lev["n"]
+    i, kk = lev["pairs"][:, 0], lev["pairs"][:, 1]
+    dv = x[i] - x[kk]
+    r = np.hypot(dv[:, 0], dv[:, 1])
+    close = r < lev["r_lj"]
+    if not np.any(close):
+        return sp.csr_matrix((2 * n, 2 * n))
+    i, kk, dv, r = i[close], kk[close], dv[close], r[close]
+    q = lev["r_lj"] / r
+    f0 = lev["mat"]["f0_r"]
+    e1 = f0 * (-(q ** 8) + q ** 4) / r
+    e2 = f0 * (9 * q ** 8 - 5 * q ** 4) / r ** 2
+    uu = dv / r[:, None]
+    B = e2[:, None, None] * uu[:, :, None] * uu[:, None, :] + \
+        (e1 / r)[:, None, None] * (np.eye(2)[None] - uu[:, :, None] * uu[:, None, :])
+    rr, cc, vv = [], [], []
+    for ci in range(2):
+        for ck in range(2):
+            for p, q2, sgn in ((i, i, 1), (kk, kk, 1), (i, kk, -1), (kk, i, -1)):
+                rr.append(2 * p + ci)
+                cc.append(2 * q2 + ck)
+                vv.append(sgn * B[:, ci, ck])
+    return sp.csr_matrix((np.concatenate(vv), (np.concatenate(rr), np.concatenate(cc))),
+                         shape=(2 * n, 2 * n))
 
 
 def wall_kinds(x, lev):
@@ -416,29 +450,7 @@ def hessian(x, lev):
                        shape=(2 * nj, 2 * nj))
     HJ = HJ + gA.T @ sp.diags(f2) @ gA
     Hx = lev["M"].T @ HJ @ lev["M"]
-    # LJ pairs
-    i, kk = lev["pairs"][:, 0], lev["pairs"][:, 1]
-    dv = x[i] - x[kk]
-    r = np.hypot(dv[:, 0], dv[:, 1])
-    close = r < lev["r_lj"]
-    if np.any(close):
-        i, kk, dv, r = i[close], kk[close], dv[close], r[close]
-        q = lev["r_lj"] / r
-        f0 = mat["f0_r"]
-        e1 = f0 * (-(q ** 8) + q ** 4) / r
-        e2 = f0 * (9 * q ** 8 - 5 * q ** 4) / r ** 2
-        uu = dv / r[:, None]
-        B = e2[:, None, None] * uu[:, :, None] * uu[:, None, :] + \
-            (e1 / r)[:, None, None] * (np.eye(2)[None] - uu[:, :, None] * uu[:, None, :])
-        rr, cc, vv = [], [], []
-        for ci in range(2):
-            for ck in range(2):
-                for p, q2, sgn in ((i, i, 1), (kk, kk, 1), (i, kk, -1), (kk, i, -1)):
-                    rr.append(2 * p + ci)
-                    cc.append(2 * q2 + ck)
-                    vv.append(sgn * B[:, ci, ck])
-        Hx = Hx + sp.csr_matrix((np.concatenate(vv), (np.concatenate(rr), np.concatenate(cc))),
-                                shape=(2 * n, 2 * n))
+    Hx = Hx + lj_hessian(x, lev)
     return sp.csr_matrix(Hx)
 
 

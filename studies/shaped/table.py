@@ -6,10 +6,12 @@ tissue A/A0, P/P0, EL/EL0 (cgms.morphology.measures of the bead outline, longest
 median spacings, each model normalised by its own s = 1 state), centroid RMSD (eqn 2,
 rigid motion removed) and the cell-level area, contour perimeter and elongation against
 reference/mfc/<tissue>/cells.s<s>.csv. Optionally fits the free parameters on one tissue
-(scipy.optimize.least_squares) and predicts the others.
+(scipy.optimize.least_squares) and predicts the others. ``--model tensor`` runs the variant
+with a shape tensor per cell (cgms.shaped_tensor) instead of slaved junctions.
 
-    python3 studies/shaped/table.py [--tissues calibration,1.5x1.5,...] [--params JSON]
-                                    [--fit calibration] [--levels 1,0.8,...] [--csv out.csv]
+    python3 studies/shaped/table.py [--model shaped|tensor] [--tissues calibration,...]
+                                    [--params JSON] [--fit calibration] [--levels 1,0.8,...]
+                                    [--csv out.csv]
 """
 
 import argparse
@@ -24,7 +26,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
-from cgms import material, morphology, shaped, superpose, tissue  # noqa: E402
+from cgms import material, morphology, shaped, shaped_tensor, superpose, tissue  # noqa: E402
 from cgms.cli import MICROSCALE  # noqa: E402
 
 LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3, 0.2, 0.1)
@@ -34,6 +36,13 @@ KEYS = ("A/A0", "P/P0", "EL/EL0")
 #: the issue's targets, |dev| in %
 TARGET = {"A/A0": 2.0, "P/P0": 5.0, "EL/EL0": 4.0}
 MAX_EDGE = 2.0
+#: the coarse models this study compares: slaved junctions, or a shape tensor per cell
+MODELS = {"shaped": shaped, "tensor": shaped_tensor}
+
+
+def positions(model, z, n):
+    """The bead positions (n, 2) of a model's state."""
+    return model.split(z, n)[0] if model is shaped_tensor else z
 
 
 def layout(name):
@@ -59,6 +68,21 @@ def mfc(name, s):
     return xy, cells
 
 
+def ensemble(folder, s):
+    """The MFC ensemble of the calibration tissue at level s (branch ``measures``,
+    reference/mfc/calibration/ensemble): {measure: (mean, sd)}, mean centroids, or None."""
+    folder = Path(folder)
+    path = folder / f"centroids.s{s:g}.txt"
+    if not path.is_file():
+        return None
+    stats = {}
+    for line in (folder / "measures.csv").read_text().splitlines()[1:]:
+        f = line.split(",")
+        if float(f[0]) == s:
+            stats[f[1]] = (float(f[3]), float(f[4]) if f[4] else np.nan)
+    return stats, np.loadtxt(path)[:, 1:3]
+
+
 def measures(xy):
     nearest = np.sort(np.linalg.norm(xy[:, None] - xy[None], axis=-1), axis=1)[:, 1]
     with warnings.catch_warnings():
@@ -78,22 +102,25 @@ def wall_params(mat, params):
     return p
 
 
-def run(name, params, levels=LEVELS, ftol=1e-9):
+def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped, ens=None):
     """Rows of one tissue along the ramp: one dict per level."""
     mat, xy = layout(name)
     t0 = time.time()
-    geo, states = shaped.ramp(xy, mat, levels, wall_params(mat, params), ftol=ftol,
-                              kick=params.get("kick", 0.0))
+    p = wall_params(mat, params)
+    kick = p.pop("kick", 0.0 if model is shaped else 1e-3)
+    geo, states = model.ramp(xy, mat, levels, p, ftol=ftol, kick=kick)
     seconds = time.time() - t0
-    p0 = states[0][1]
+    n = geo["n"]
+    p0 = positions(model, states[0][1], n)
     m0 = measures(p0)
     ref0 = mfc(name, 1.0)
     q0m = measures(ref0[0])
     c0 = None
     rows = []
-    for s, x, info in states:
-        lev = shaped.at_level(geo, s)
-        cm = shaped.cell_measures(x, lev)
+    for s, z, info in states:
+        lev = model.at_level(geo, s)
+        cm = model.cell_measures(z, lev)
+        x = positions(model, z, n)
         if c0 is None:
             c0 = cm
         got = morphology.normalise(measures(x), m0)
@@ -118,6 +145,15 @@ def run(name, params, levels=LEVELS, ftol=1e-9):
             row["MFC cell_perim"] = float(np.mean(cells["perimeter"] / cells0["perimeter"]))
             row["MFC cell_elong"] = float(np.mean(cells["elongation"]))
             row["MFC cell_elong_sd"] = float(np.std(cells["elongation"]))
+        got_ens = ensemble(ens, s) if ens and name == "calibration" else None
+        if got_ens is not None:
+            stats, mean_xy = got_ens
+            for k in KEYS:
+                mean, sd = stats[k]
+                row[f"ens {k}"] = mean
+                row[f"ens z {k}"] = (got[k] - mean) / sd if sd > 0 else np.nan
+            row["ens rmsd_um"] = superpose.rmsd(x, mean_xy, "rigid") * 1e6
+            row["ens floor_um"] = stats["floor_um"][0] if "floor_um" in stats else np.nan
         rows.append(row)
     return rows
 
@@ -155,14 +191,14 @@ def worst(rows, levels):
     return out
 
 
-FREE = ("EA_ratio", "buckle", "soft", "beta_a", "beta_b", "lamella")
+FREE = ("EA_ratio", "buckle", "soft", "beta_a", "beta_b", "lamella", "kg_ratio")
 
 
-def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3)):
+def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped, max_nfev=40):
     """least_squares on the tissue's deviations (A/A0, P/P0, EL/EL0 in %, over the
     targets) and its centroid RMSD (over 10 um) at the dried levels."""
     from scipy.optimize import least_squares
-    logs = {"buckle", "EA_ratio", "soft"}
+    logs = {"buckle", "EA_ratio", "soft", "kg_ratio"}
 
     def unpack(z):
         p = dict(params)
@@ -173,7 +209,7 @@ def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3)):
     def resid(z):
         p = unpack(z)
         try:
-            rows = run(name, p, levels)
+            rows = run(name, p, levels, model=model)
         except (ValueError, np.linalg.LinAlgError) as err:
             print("  failed:", err, flush=True)
             return np.full(4 * (len(levels) - 1), 10.0)
@@ -186,12 +222,13 @@ def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3)):
         return res
 
     z0 = [math.log(params[k]) if k in logs else params[k] for k in free]
-    sol = least_squares(resid, z0, diff_step=1e-3, max_nfev=40, xtol=1e-3, ftol=1e-3)
+    sol = least_squares(resid, z0, diff_step=1e-3, max_nfev=max_nfev, xtol=1e-3, ftol=1e-3)
     return unpack(sol.x), sol
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--model", default="shaped", choices=sorted(MODELS))
     ap.add_argument("--tissues", default="calibration")
     ap.add_argument("--levels", default=",".join(f"{s:g}" for s in LEVELS))
     ap.add_argument("--params", default="{}", help="JSON overrides of cgms.shaped.DEFAULTS "
@@ -199,9 +236,13 @@ def main(argv=None):
     ap.add_argument("--fit", default=None, help="tissue to fit the --free parameters on first")
     ap.add_argument("--free", default="buckle,beta_a,beta_b,lamella")
     ap.add_argument("--fit-levels", default="1,0.8,0.6")
+    ap.add_argument("--max-nfev", type=int, default=40, help="evaluations the fit may take")
     ap.add_argument("--csv", default=None)
+    ap.add_argument("--ensemble", default=None, help="folder of the calibration tissue's MFC "
+                    "ensemble (measures.csv, centroids.s<s>.txt) to judge against its spread")
     args = ap.parse_args(argv)
-    params = dict(shaped.DEFAULTS)
+    model = MODELS[args.model]
+    params = dict(model.DEFAULTS)
     params.pop("wall_EA")
     params.update(EA_ratio=1.0)
     params.update(json.loads(args.params))
@@ -209,18 +250,25 @@ def main(argv=None):
     t0 = time.time()
     if args.fit:
         params, sol = fit(args.fit, params, args.free.split(","),
-                          tuple(float(v) for v in args.fit_levels.split(",")))
+                          tuple(float(v) for v in args.fit_levels.split(",")), model,
+                          args.max_nfev)
         print("fitted:", json.dumps(params), f"cost {sol.cost:.3f}, {sol.nfev} evaluations",
               flush=True)
     rows = []
     for name in args.tissues.split(","):
-        rows += run(name, params, levels)
+        rows += run(name, params, levels, model=model, ens=args.ensemble)
         print(f"{name}: {rows[-1]['seconds']:.1f} s", file=sys.stderr, flush=True)
     print_rows(rows)
     for lv in ((0.8,), (0.6,), (0.4,), (0.3,)):
         w = worst(rows, lv)
         print(f"s = {lv[0]:g}: largest |dev| " + ", ".join(f"{k} {w[k]:.2f} %" for k in KEYS)
               + f", RMSD {w['rmsd_um']:.1f} um")
+    for r in rows:
+        if "ens A/A0" in r:
+            print(f"ensemble s = {r['s']:g}: " + ", ".join(
+                f"{k} {r[f'shaped {k}']:.4f} vs {r[f'ens {k}']:.4f} ({r[f'ens z {k}']:+.1f} sd)"
+                for k in KEYS) + f"; RMSD to the mean centroids {r['ens rmsd_um']:.1f} um "
+                f"(floor {r['ens floor_um']:.1f})")
     print(f"params {json.dumps(params)}; {time.time() - t0:.1f} s")
     if args.csv:
         import csv

@@ -1,0 +1,159 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""The shaped model's shape-tensor variant (cgms.shaped_tensor; doc/model.md, "A coarse
+model with cell shape"): gradient and Hessian against differences, invariance under rigid
+motions that rotate every F too, the built lattice in balance, and the cells' area
+following their water."""
+
+import math
+
+import numpy as np
+import pytest
+
+import cgmstest  # noqa: F401 - puts python/ on the path
+from cgms import material, shaped, shaped_tensor as st, tissue
+from test_shaped import assert_matches_differences
+
+MAT = material.read("apple")
+EPS = np.finfo(float).eps
+L = MAT["x_ref"]
+
+
+def units(n):
+    """Positions in units of x_ref, F as it is: both of order one."""
+    return np.concatenate([np.full(2 * n, L), np.ones(4 * n)])
+
+
+def dried_state(s=0.5, seed=3, params=None):
+    """A small tissue at dryness ``s``: beads shrunk towards sqrt(s) and jittered by 4 um,
+    every F sqrt(s) times a random stretch of +-25 % (so some walls stretch, most buckle),
+    ghost walls scaled by beta != 1 and one pair of non-neighbours inside the LJ radius."""
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, L)
+    geo = st.build(xy, MAT, dict(dict(soft=0.05, beta_a=1.1, beta_b=0.05, kg_ratio=0.3),
+                                 **(params or {})))
+    lev = st.at_level(geo, s)
+    rng = np.random.default_rng(seed)
+    c = xy.mean(axis=0)
+    x = c + (xy - c) * math.sqrt(s) + rng.normal(0, 4e-6, xy.shape)
+    i, k = lev["pairs"][np.argmin(np.linalg.norm(x[lev["pairs"][:, 0]] - x[lev["pairs"][:, 1]],
+                                                 axis=1))]
+    x[k] = x[i] + 0.85 * lev["r_lj"] * (x[k] - x[i]) / np.linalg.norm(x[k] - x[i])
+    F = math.sqrt(s) * (np.eye(2) + rng.uniform(-0.25, 0.25, (geo["n"], 2, 2)))
+    return st.join(x, F), lev
+
+
+def kinds(z, lev):
+    _, _, _, chord, _ = st.cells(z, lev)
+    x, _ = st.split(z, lev["n"])
+    k = lev["wall_EA"] / lev["rest"]
+    lb = lev["rest"] - lev["buckle"] / k
+    r = np.linalg.norm(x[lev["pairs"][:, 0]] - x[lev["pairs"][:, 1]], axis=1)
+    return (int(np.sum(chord > lev["rest"])), int(np.sum(chord < lb)),
+            int(np.sum(r < lev["r_lj"])))
+
+
+def gradient_scale(z, lev):
+    """The size of the largest terms summed into one scaled gradient entry: a cell's
+    fluid term H |P| A, six walls' |dE/dl| |d0|, a bead's six bonds k_g |m| x_ref."""
+    x, F, c, chord, A, e_w, de_w, m, H, K = st._terms(z, lev)
+    P = np.abs(shaped.tait_pressure(A, lev["A_f"], lev["P_T"], K)).max() + K / 7
+    return (H * P * lev["poly_area0"].max() + 6 * np.abs(de_w).max() * L
+            + 6 * lev["k_g"] * np.abs(m).max() * L)
+
+
+def test_gradient_is_the_derivative_of_the_energy():
+    z, lev = dried_state()
+    stretched, buckled, lj = kinds(z, lev)
+    assert stretched > 0 and buckled > 0 and lj > 0
+    u = units(lev["n"])
+    E, g = st.energy(z, lev)
+    assert_matches_differences(g * u, lambda y: st.energy(y * u, lev, gradient=False),
+                               z / u, 1e-5, abs(E))
+
+
+def test_hessian_is_the_derivative_of_the_gradient():
+    z, lev = dried_state(s=0.4, seed=5)
+    u = units(lev["n"])
+    Hs = st.hessian(z, lev).toarray() * np.outer(u, u)
+    assert_matches_differences(Hs, lambda y: st.energy(y * u, lev)[1] * u, z / u, 1e-5,
+                               gradient_scale(z, lev))
+    np.testing.assert_allclose(Hs, Hs.T, rtol=0, atol=64 * EPS * np.abs(Hs).max())
+
+
+def test_rigid_motions_that_rotate_every_F_leave_the_energy():
+    """x -> R x + t and F_i -> R F_i leave E unchanged and rotate the gradient; the forces
+    sum to zero and their torque, including the couples on the F (tr(g_F^T W F) with W
+    the rotation generator), vanishes; each a sum of m terms, exact to m eps times the
+    sum of the terms' magnitudes."""
+    z, lev = dried_state(s=0.3, seed=7)
+    n = lev["n"]
+    E, g = st.energy(z, lev)
+    x, F = st.split(z, n)
+    gx, gF = st.split(g, n)
+    m = 64 * len(lev["cell"])
+    assert np.all(np.abs(gx.sum(axis=0)) <= m * EPS * np.abs(gx).sum())
+    W = np.array([[0.0, -1.0], [1.0, 0.0]])
+    r = x - x.mean(axis=0)
+    WF = W @ F
+    torque = np.sum(r[:, 0] * gx[:, 1] - r[:, 1] * gx[:, 0]) + np.sum(gF * WF)
+    assert abs(torque) <= m * EPS * (np.sum(np.abs(r) * np.abs(gx[:, ::-1]))
+                                     + np.sum(np.abs(gF) * np.abs(WF)))
+    c, s = math.cos(0.7), math.sin(0.7)
+    R = np.array([[c, -s], [s, c]])
+    z2 = st.join(x @ R.T + np.array([3e-4, -2e-4]), R @ F)
+    E2, g2 = st.energy(z2, lev)
+    assert abs(E2 - E) <= m * EPS * (abs(E) + gradient_scale(z, lev))
+    gx2, gF2 = st.split(g2, n)
+    np.testing.assert_allclose(gx2, gx @ R.T, rtol=0, atol=m * EPS * np.abs(gx).max())
+    np.testing.assert_allclose(gF2, R @ gF, rtol=0, atol=m * EPS * np.abs(gF).max())
+
+
+@pytest.mark.parametrize("shape", [("rectangle", 1.25e-3, 1.5e-3), ("rectangle", 0.6e-3, 1.1e-3),
+                                   ("disc", 0.5e-3)])
+def test_built_lattice_is_in_balance(shape):
+    """At s = 1, beta = 1 and every F the identity, the bonds match, every cell is the
+    regular hexagon with uniform wall tension T balancing turgor, so the forces on beads
+    and the generalised forces dE/dF / x_ref (sums of a few dozen terms of size T) vanish
+    to rounding."""
+    xy = getattr(tissue, shape[0])(*shape[1:], L)
+    geo = st.build(xy, MAT, dict(beta_a=1.0, beta_b=0.3, kg_ratio=2.0))
+    lev = st.at_level(geo, 1.0)
+    assert lev["beta"] == 1.0 and geo["boundary"].sum() > 0
+    fx, fF = st.forces(st.fresh_state(geo), lev)
+    tension = geo["wall_EA"] * geo["eps"]
+    assert fx <= 64 * 24 * EPS * tension
+    assert fF <= 64 * 24 * EPS * tension
+
+
+@pytest.mark.parametrize("s", [0.8, 0.5, 0.3])
+def test_area_follows_water_in_a_dried_block(s):
+    """Relaxed at dryness s (walls that only buckle, soft = 0), each cell's fluid area is
+    its water's, s A_f0, up to the fluid's compression. Its pressure follows from the
+    steady state by virtual work of dilating its F: H P (2 A_poly - w L) = sum_e w'_e l_e +
+    (compatibility's dE/dF) : F; with the bound |P| <= dP from the magnitudes of those
+    terms, A / A_f = (1 + (P - s P_f) / K)^(-1/7) lies between its values at -+2 dP (x2:
+    the solver leaves forces up to ftol). The walls are slack, so dP stays far below the
+    fresh turgor: the water, not the walls, sets the area."""
+    xy = tissue.rectangle(0.6e-3, 0.6e-3, L)
+    geo = st.build(xy, MAT, dict(soft=0.0, kg_ratio=0.3))
+    lev = st.at_level(geo, s)
+    z = st.fresh_state(geo)
+    x, F = st.split(z, geo["n"])
+    c = x.mean(axis=0)
+    z, info = st.relax(st.join(c + (x - c) * math.sqrt(s), F * math.sqrt(s)), lev, ftol=1e-10)
+    assert info["converged"], info
+    x, F, cv, chord, A, e_w, de_w, m, H, K = st._terms(z, lev)
+    n, cell = lev["n"], lev["cell"]
+    gc = st.split(lev["k_g"] * (lev["C"].T @ m), n)[1]
+    work = np.bincount(cell, np.abs(de_w) * chord, minlength=n) + np.abs(
+        np.sum(gc * F, axis=(1, 2)))
+    w = lev["lamella"] * MAT["pectin"]
+    Lc = np.bincount(cell, chord, minlength=n)
+    dP = work / (H * (2 * lev["poly_area0"] * np.linalg.det(F) - w * Lc))
+    P_T = lev["P_T"]
+    lo = (1 + (2 * dP - P_T) / K) ** (-1 / 7)
+    hi = (1 + (-2 * dP - P_T) / K) ** (-1 / 7)
+    ratio = A / lev["A_f"]
+    assert np.all((lo <= ratio) & (ratio <= hi)), (ratio, lo, hi)
+    assert np.all(dP < 0.1 * MAT["P_f"])
