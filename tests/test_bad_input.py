@@ -273,15 +273,15 @@ def cgms_tissue(folder, *args):
 
 
 CLI_CASES = {
-    "empty outline": (["polygon", "empty.txt"], "", 1,
+    "empty outline": (["polygon", "empty.txt"], "", 2,
                       "cgms.tissue: polygon is empty: give at least 3 vertices"),
-    "outline of comments only": (["polygon", "comments.txt"], "# metres\n\n", 1,
+    "outline of comments only": (["polygon", "comments.txt"], "# metres\n\n", 2,
                                  "cgms.tissue: polygon is empty"),
-    "self-intersecting outline": (["polygon", "bow.txt"], "0 0\n1e-3 1e-3\n1e-3 0\n0 1e-3\n", 1,
+    "self-intersecting outline": (["polygon", "bow.txt"], "0 0\n1e-3 1e-3\n1e-3 0\n0 1e-3\n", 2,
                                   "cgms.tissue: polygon is self-intersecting: edge 0"),
-    "non-numeric vertex": (["polygon", "words.txt"], "0 0\n1e-3 zero\n0 1e-3\n", 1,
+    "non-numeric vertex": (["polygon", "words.txt"], "0 0\n1e-3 zero\n0 1e-3\n", 2,
                            "cgms.tissue: words.txt line 2: not numbers: '1e-3 zero'"),
-    "missing vertex file": (["polygon", "nowhere.txt"], None, 1,
+    "missing vertex file": (["polygon", "nowhere.txt"], None, 2,
                             "cgms.tissue: No such file or directory: nowhere.txt"),
     "negative width": (["rect", "-1", "2"], None, 2,
                        "cgms.tissue: width must be positive, got -1"),
@@ -289,12 +289,12 @@ CLI_CASES = {
                         "cgms.tissue: radius must be positive, got -0.5"),
     "negative spacing": (["rect", "1", "1", "--spacing", "-5"], None, 2,
                          "cgms.tissue: spacing must be positive, got -5"),
-    "negative cv": (["rect", "1", "1", "--cv", "-0.1"], None, 1,
+    "negative cv": (["rect", "1", "1", "--cv", "-0.1"], None, 2,
                     "cgms.tissue: cv must be >= 0, got -0.1"),
-    "output in a missing folder": (["rect", "1", "1", "--out", "no/such/dir/t.data"], None, 1,
+    "output in a missing folder": (["rect", "1", "1", "--out", "no/such/dir/t.data"], None, 2,
                                    "cgms.tissue: No such file or directory: "
                                    "no/such/dir/t.data"),
-    "output is a folder": (["rect", "1", "1", "--out", "adir", "--force"], None, 1,
+    "output is a folder": (["rect", "1", "1", "--out", "adir", "--force"], None, 2,
                            "cgms.tissue: Is a directory: adir"),
 }
 

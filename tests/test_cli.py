@@ -271,7 +271,7 @@ def tissue_cli(folder, *args):
 ])
 def test_tissue_builder_refuses(tmp_path, args, message):
     proc = tissue_cli(tmp_path, *args)
-    assert proc.returncode == 1 and message in proc.stderr, proc.stderr
+    assert proc.returncode == 2 and message in proc.stderr, proc.stderr
     assert "Traceback" not in proc.stderr and listing(tmp_path) == []
 
 

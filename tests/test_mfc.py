@@ -697,7 +697,7 @@ def test_cgms_mfc_tiny_study(tmp_path):
         assert "Traceback" not in refused.stderr
     bad = subprocess.run([sys.executable, "-m", "cgms", "mfc", "nowhere", "--out",
                           str(tmp_path / "bad")], env=env, capture_output=True, text=True)
-    assert bad.returncode == 1 and "unknown tissue 'nowhere'" in bad.stderr
+    assert bad.returncode == 2 and "unknown tissue 'nowhere'" in bad.stderr
     assert "Traceback" not in bad.stderr
 
 

@@ -339,7 +339,7 @@ def test_cli_rect_disc_polygon(tmp_path, capsys, monkeypatch):
     assert capsys.readouterr().out.startswith("149 beads -> tissue.data")
     assert "149 atoms" in (tmp_path / "tissue.data").read_text()
     before = (tmp_path / "tissue.data").read_text()
-    assert cli.tissue_main(["rect", "1.5", "1.5"]) == 1  # exists: not replaced
+    assert cli.tissue_main(["rect", "1.5", "1.5"]) == 2  # exists: not replaced
     assert "--force" in capsys.readouterr().err
     assert (tmp_path / "tissue.data").read_text() == before
     assert cli.tissue_main(["rect", "1.5", "1.5", "--force", "--cv", "0.1", "--seed", "1"]) == 0
@@ -353,10 +353,10 @@ def test_cli_rect_disc_polygon(tmp_path, capsys, monkeypatch):
     n = len(tissue.polygon([[0, 0], [1.5e-3, 0], [0, 1.5e-3]], XREF))
     assert capsys.readouterr().out.startswith(f"{n} beads")
     (tmp_path / "bow.txt").write_text("0 0\n1e-3 1e-3\n1e-3 0\n0 1e-3\n")
-    assert cli.tissue_main(["polygon", "bow.txt", "--out", "bow.data"]) == 1
+    assert cli.tissue_main(["polygon", "bow.txt", "--out", "bow.data"]) == 2
     assert "self-intersecting" in capsys.readouterr().err
     (tmp_path / "mm.txt").write_text("0 0\n1500 0\n0 1500\n")  # millimetres by mistake
-    assert cli.tissue_main(["polygon", "mm.txt", "--out", "mm.data"]) == 1
+    assert cli.tissue_main(["polygon", "mm.txt", "--out", "mm.data"]) == 2
     assert "metres" in capsys.readouterr().err
     assert cli.tissue_main(["rect", "0", "1", "--out", "zero.data"]) == 2
     assert not any((tmp_path / f).exists() for f in ("bow.data", "mm.data", "zero.data"))

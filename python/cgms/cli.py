@@ -637,6 +637,8 @@ def tissue_main(argv=None):
 
 
 def tissue_job(args):
+    """Build and write the tissue; every refusal (a bad option or input file, found before
+    anything is written) is one line and status 2, as in the other commands."""
     for name in ("width", "height", "radius", "spacing", "margin"):
         value = getattr(args, name, None)
         if value is not None and not (math.isfinite(value) and value > 0):
@@ -683,13 +685,13 @@ def tissue_job(args):
     except FileExistsError:
         print(f"cgms.tissue: {args.out} exists; use --force to replace it or choose another "
               "--out", file=sys.stderr)
-        return 1
+        return 2
     except UnicodeDecodeError:
         print(f"cgms.tissue: {args.file}: not a text file", file=sys.stderr)
-        return 1
+        return 2
     except (ValueError, OSError) as e:
         print(f"cgms.tissue: {describe(e)}", file=sys.stderr)
-        return 1
+        return 2
     extra = ""
     if diam is not None:
         extra = (f"; Diameters section: mean {diam.mean() * 1e6:.2f} um, cv "

@@ -63,7 +63,8 @@ def _centres(name, p):
         return tissue.rectangle(w * 1e-3, h * 1e-3, p["x_ref"])
     if Path(name).is_file():
         return mfc_study.read_centres(name)
-    raise ValueError(f"unknown tissue {name!r}: give one of {SINGLE}, "
+    from .cli import UsageError
+    raise UsageError(f"unknown tissue {name!r}: give one of {SINGLE}, "
                      f"{', '.join(MICROSCALE)}, all, or a CGMS data file")
 
 
@@ -78,14 +79,17 @@ def folder_name(name):
 def main(args):
     """Run the study; returns an exit status."""
     from . import folders
-    from .cli import MICROSCALE
+    from .cli import MICROSCALE, UsageError
     levels = args.dryness
     if not 0 <= args.stage < 1:
-        raise ValueError(f"--stage must be in [0, 1), got {args.stage}")
+        raise UsageError(f"--stage must be in [0, 1), got {args.stage}")
     if not args.newton >= 0:
-        raise ValueError(f"--newton must be >= 0 (N; 0: off), got {args.newton}")
+        raise UsageError(f"--newton must be >= 0 (N; 0: off), got {args.newton}")
     names = list(MICROSCALE) if args.tissues == ["all"] else args.tissues
-    p = mfc_model.parameters(args.material)
+    try:
+        p = mfc_model.parameters(args.material)
+    except (ValueError, OSError) as err:    # a material file missing or wrong: an input
+        raise UsageError(str(err).strip('"')) from None
     centres = {name: _centres(name, p) for name in names}   # bad names stop before any run
     with folders.claim(args.out, "mfc", args.resume) as out:
         rows = run(out, names, centres, p, levels, args)
