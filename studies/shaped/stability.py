@@ -10,7 +10,6 @@ at 0.72 or more down to s = 0.3), the number of inverted triangles and the wall 
 """
 
 import argparse
-import json
 import sys
 import time
 
@@ -27,10 +26,8 @@ def main(argv=None):
     ap.add_argument("--kick", type=float, default=1e-7, help="seeded kick before each "
                     "level (m), to leave a saddle")
     args = ap.parse_args(argv)
-    params = dict(shaped.DEFAULTS, EA_ratio=1.0, **json.loads(args.params))
-    params.pop("wall_EA")
-    mat, xy = table.layout(args.tissue)
-    geo = shaped.build(xy, mat, table.wall_params(mat, params))
+    params = table.given_params(shaped, args.params)
+    mat, xy, geo = table.geometry(args.tissue, params)
     x = xy
     rng = np.random.default_rng(1)
     a0 = geo["tri_area0"]

@@ -10,7 +10,6 @@ position is its polygon's area centroid. L-BFGS with the analytic gradient.
 """
 
 import argparse
-import json
 import sys
 import time
 
@@ -111,10 +110,8 @@ def main(argv=None):
                     "(in walls) over which a junction's turning spreads; 0: none. The "
                     "buckled walls then push with their Euler load pi^2 EI / r^2")
     args = ap.parse_args(argv)
-    params = dict(shaped.DEFAULTS, EA_ratio=1.0, **json.loads(args.params))
-    params.pop("wall_EA")
-    mat, xy = table.layout(args.tissue)
-    geo = shaped.build(xy, mat, table.wall_params(mat, params))
+    params = table.given_params(shaped, args.params)
+    mat, xy, geo = table.geometry(args.tissue, params)
     U, S = vertex_geometry(geo)
     # the edge after each edge in its cell's polygon (ja of the next = jb of this)
     start = {(c, a): e for e, (c, a) in enumerate(zip(geo["cell"], geo["ja"]))}
