@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 spec = importlib.util.spec_from_file_location(
     "measured_compare", ROOT / "studies" / "measured_drying" / "compare.py")
 compare = importlib.util.module_from_spec(spec)

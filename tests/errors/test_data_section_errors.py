@@ -16,7 +16,7 @@ import re
 import pytest
 
 from cgmstest import header, make_tissue, physics, read_dump, run_lmp
-from test_lammps_data_file import reread
+from plugin.test_lammps_data_file import reread
 
 pytestmark = pytest.mark.lammps
 

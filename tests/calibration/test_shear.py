@@ -116,7 +116,7 @@ def test_shear_script_settling_and_exponent():
     through the origin but not G with an intercept; G ~ s^6 gives the exponent 6."""
     import sys
     from pathlib import Path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples" / "mfc"))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "mfc"))
     import shear as script
     G, gap, length = 0.7, 5e-4, 6e-4
 

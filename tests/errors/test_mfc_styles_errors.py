@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from cgmstest import PLUGIN, ROOT, lammps_env, run_lmp
-from test_mfc_sph import block_script
+from mfc.test_mfc_sph import block_script
 
 pytestmark = pytest.mark.lammps
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "python"))
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "python"))
 
 from cgms import morphology as mo  # noqa: E402
 from cgms import tissue  # noqa: E402

@@ -363,7 +363,7 @@ def test_restart_of_another_row_layout(folder):
     """A restart file written when the bead's row had 14 columns (tests/data/README.md):
     read with this build's 8 columns it would come in shifted (the first symptom seen was a
     dryness of -5.6e-5); atom_style cgms refuses it and says what to do."""
-    shutil.copy(Path(__file__).parent / "data" / "row14.restart", folder / "bad.restart")
+    shutil.copy(Path(__file__).parents[1] / "data" / "row14.restart", folder / "bad.restart")
     error = lammps_error(folder, read_restart_script())
     assert "Restart file has 35 values per bead where atom_style cgms reads 20" in error, error
     assert "written by another CGMS version" in error
