@@ -20,6 +20,12 @@ MARKERS = {
 }
 
 
+def pytest_addoption(parser):
+    parser.addoption("--regenerate", action="store_true",
+                     help="rewrite the frozen values of tests/contract/*.yaml (then review "
+                          "the diff and run each case's independent check)")
+
+
 def pytest_configure(config):
     for name, text in MARKERS.items():
         config.addinivalue_line("markers", f"{name}: {text}")
