@@ -21,8 +21,9 @@ or data file), so a value differs by at most ``terms_per_bead`` round-offs of th
 absolute values of its terms, as LAMMPS's ``epsilon``. That sum is the largest value of the
 output times the case's ``condition`` for the stage (the cancellation in its sums, derived
 in each YAML from the oracle or the law, never from a run), so an output ``q`` is compared
-as ``|q - q_yaml| <= epsilon max|q_yaml|`` (globals: ``|q_yaml|``), ``epsilon =
-terms_per_bead * condition * 2**-52``. After ``run_steps`` steps the errors of each step add
+as ``|q - q_yaml| <= epsilon max|q_yaml|``, ``epsilon = terms_per_bead * condition *
+2**-52``; a global output, a sum over the beads, has ``natoms`` times the terms and is
+compared to ``natoms * epsilon`` of its value (a tensor's components: of the largest). After ``run_steps`` steps the errors of each step add
 (the damped dynamics does not amplify them: tests/README.md), so ``run_*`` get
 ``run_steps + 1`` times their ``epsilon``. The restart and data-file runs read values written
 to 17 digits (restart: bit-exact) and recompute the same sums: the same ``epsilon``."""
@@ -159,21 +160,28 @@ def regenerate(path, case, got):
 
 
 def differences(case, got, stage, eps):
-    """The outputs of one stage that differ from the YAML by more than ``eps`` times the
-    largest frozen value of that output: [(name, error, allowed)]."""
+    """The outputs of one stage that differ from the YAML by more than allowed: a per-atom
+    value by ``eps`` times the output's largest frozen value, a global (a sum over the
+    beads of their sums: ``natoms`` times the terms) by ``natoms * eps`` times its own
+    frozen value or, for the members of a ``global_groups`` entry (a tensor's
+    components), the group's largest. [(name, error, allowed)]."""
     bad = []
     want = case[f"{stage}_global"]
+    natoms = len(got["per_atom"]["id"])
+    scale = {name: abs(value) for name, value in want.items()}
+    for group in case.get("global_groups", []):
+        scale.update({name: max(abs(want[m]) for m in group) for name in group})
     for name, value in got["global"].items():
-        allowed = eps * abs(want[name]) + 1e-300
+        allowed = natoms * eps * scale[name] + 1e-300
         if not abs(value - want[name]) <= allowed:
             bad.append((name, abs(value - want[name]), allowed))
     frozen = per_atom_values(case[f"{stage}_per_atom"], case["per_atom"])
     assert np.array_equal(frozen["id"], got["per_atom"]["id"]), "another set of atoms"
     for name in case["per_atom"]:
-        scale = np.max(np.abs(frozen[name]))
+        largest = np.max(np.abs(frozen[name]))
         err = np.max(np.abs(got["per_atom"][name] - frozen[name]))
-        if not err <= eps * scale + 1e-300:
-            bad.append((name, err, eps * scale))
+        if not err <= eps * largest + 1e-300:
+            bad.append((name, err, eps * largest))
     return bad
 
 
