@@ -33,6 +33,24 @@ def shape_energy(xy, s, mat, cutoff):
     return 0.5 * np.sum(shape_stiffness(s, mat) * spread2.sum(axis=1))
 
 
+def quasistatic_energy(xy, s, l0p, mat, cutoff):
+    """The potential of the quasi-static problem without the LJ part (doc/fix_cgms_fluid.rst,
+    the fix's scalar under balance): sum_i [-k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i -
+    l_d,i)^2 / (4 g_i)] with P_i = -Pi_i = s_i |Pi_f| and g_i = dl_i/dx_ik = (N_i + beta(s_i)
+    max(0, 6 - N_i)) / (sqrt(3) N_i), plus the cell-shape energy; l_d,i from the turgid
+    perimeter ``l0p`` (the geometry does not depend on the fluid mass)."""
+    _, dist, adj = pair_geometry(xy, s, mat, cutoff)
+    geo = fluid_state(xy, s, np.ones_like(s), l0p, mat, cutoff)
+    n = geo["nneigh"]
+    beta = mat["beta_a"] + mat["beta_b"] * np.log(s)
+    g = (n + beta * np.maximum(0.0, 6.0 - n)) / (SQRT3 * n)
+    press = -s * mat["Pi_f"]
+    sum_x = np.where(adj, dist, 0.0).sum(axis=1)
+    return (np.sum(-0.5 * mat["k_T"] * (press - mat["P_f"]) * sum_x
+                   + mat["k_PA"] * (geo["perim"] - geo["ldeq"]) ** 2 / (4 * g))
+            + shape_energy(xy, s, mat, cutoff))
+
+
 def pair_geometry(xy, s, mat, cutoff):
     """Displacements d[i, k] = x_i - x_k, distances and the neighbour mask.
     ``cutoff`` is ("lj", factor): factor times the pair's LJ radius (the plugin's

@@ -270,3 +270,35 @@ def test_pair_cgms_yaml_agrees_with_the_oracle():
                 a, b = np.asarray(a, float), np.asarray(b, float)
                 err, scale = np.max(np.abs(a - b)), np.max(np.abs(b))
                 assert err <= 1e-10 * scale, f"{path.name} {stage} {name}: {err:.2e} of {scale:.2e}"
+
+
+def test_balance_yaml_agrees_with_the_oracle():
+    """fix-cgms-fluid-balance.yaml against tests/reference.py on its frozen inputs: every
+    pressure is -Pi = s |Pi_f|, the geometry (neighbour count, perimeter, l_d) is the
+    oracle's, the forces are the oracle's with the frozen pair coefficients (which the
+    potential's gradient pins: tests/plugin/test_quasistatic.py), the fix's scalar is the
+    potential of doc/fix_cgms_fluid.rst and the pair energy the LJ energy, to 1e-10 of
+    their largest value; and the YAML's ``condition`` covers the oracle's cancellation."""
+    case = load(HERE / "fix-cgms-fluid-balance.yaml")
+    mat = material.read(ROOT / case["material"])
+    for stage in ("init", "run"):
+        got = per_atom_values(case[f"{stage}_per_atom"], case["per_atom"])
+        xy, v, s = np.c_[got["x"], got["y"]], np.c_[got["vx"], got["vy"]], got["dryness"]
+        cond = cancellation(xy, v, s, got["cgmscoef"], mat, got)
+        assert cond <= case["condition"][stage], f"{stage}: condition {cond:.2f}"
+        if stage == "run":
+            continue  # the forces of the last step used other positions than the dumped ones
+        geo = reference.fluid_state(xy, s, got["mf"], got["l0p"], mat, CUTOFF)
+        f, pe, _ = reference.pair_forces(xy, v, s, got["cgmscoef"], mat, CUTOFF, damping=False)
+        frozen = case[f"{stage}_global"]
+        checks = {"pressure": (got["pressure"], -s * mat["Pi_f"]),
+                  "nneigh": (got["nneigh"], geo["nneigh"]), "perim": (got["perim"], geo["perim"]),
+                  "ldeq": (got["ldeq"], geo["ldeq"]),
+                  "fx": (got["fx"], f[:, 0]), "fy": (got["fy"], f[:, 1]),
+                  "pair energy": (frozen["pe"], pe),
+                  "potential": (frozen["quasistatic"],
+                                reference.quasistatic_energy(xy, s, got["l0p"], mat, CUTOFF))}
+        for name, (a, b) in checks.items():
+            a, b = np.asarray(a, float), np.asarray(b, float)
+            err, scale = np.max(np.abs(a - b)), np.max(np.abs(b))
+            assert err <= 1e-10 * scale, f"{stage} {name}: {err:.2e} of {scale:.2e}"
