@@ -72,7 +72,8 @@ def script(case, nprocs, newton, read):
              + " ".join(case["per_atom"].values()),
              "dump_modify d format float %.17g sort id", "run 0"]
     if read == "input":
-        lines += ["write_restart case.restart", "write_data case.data", f"run {steps}"]
+        lines += ["write_restart case.restart",
+                  f"write_data case.data {case.get('write_data_options', '')}", f"run {steps}"]
     return "\n".join(lines) + "\n"
 
 
@@ -302,3 +303,18 @@ def test_balance_yaml_agrees_with_the_oracle():
             a, b = np.asarray(a, float), np.asarray(b, float)
             err, scale = np.max(np.abs(a - b)), np.max(np.abs(b))
             assert err <= 1e-10 * scale, f"{stage} {name}: {err:.2e} of {scale:.2e}"
+
+
+def test_mfc_pressure_yaml_areas():
+    """fix-mfc-pressure.yaml: each cell's frozen area is the shoelace sum of its frozen
+    wall positions (ids 1-96 and 97-192 in ring order), to 1e-12, and its cancellation
+    (sum of the absolute cross terms over twice the area) is the YAML's 1.57 at most."""
+    case = load(HERE / "fix-mfc-pressure.yaml")
+    for stage in ("init", "run"):
+        got = per_atom_values(case[f"{stage}_per_atom"], case["per_atom"])
+        rings = np.c_[got["x"], got["y"]].reshape(2, 96, 2)
+        for c, ring in enumerate(rings):
+            cross = ring[:, 0] * np.roll(ring[:, 1], -1) - np.roll(ring[:, 0], -1) * ring[:, 1]
+            area = 0.5 * cross.sum()
+            assert area == pytest.approx(case[f"{stage}_global"][f"area{c + 1}"], rel=1e-12)
+            assert np.abs(cross).sum() / (2 * area) <= 1.57
