@@ -318,3 +318,38 @@ def test_mfc_pressure_yaml_areas():
             area = 0.5 * cross.sum()
             assert area == pytest.approx(case[f"{stage}_global"][f"area{c + 1}"], rel=1e-12)
             assert np.abs(cross).sum() / (2 * area) <= 1.57
+
+
+def test_sph_yaml_agrees_with_the_oracle():
+    """pair-sph-taitwater-ap.yaml's frozen initial forces and density rates against the
+    NumPy oracle of tests/mfc/test_mfc_sph.py on the frozen positions and densities (at
+    rest: the viscous term and the rates vanish), to the oracle's 1e-6 (dW/dr by central
+    differences); and the YAML's ``condition`` covers the cancellation of the force sums,
+    max_i sum_j |F_ij| / max_i |F_i|, and of the density rates' sums, each pair's terms from
+    the oracle on the pair alone
+    (an SPH pair force depends on its two particles' positions, velocities, densities)."""
+    from mfc.test_mfc_sph import oracle
+    case = load(HERE / "pair-sph-taitwater-ap.yaml")
+    types = np.array([int(line.split()[1]) for line in
+                      (HERE / "sph-patch.data").read_text().split("Atoms # sph\n\n")[1]
+                      .strip().splitlines()])
+    for stage in ("init", "run"):
+        got = per_atom_values(case[f"{stage}_per_atom"], case["per_atom"])
+        x, v = np.c_[got["x"], got["y"]], np.c_[got["vx"], got["vy"]]
+        terms = np.zeros((len(x), 2))   # summed |pair force|, |pair density rate|
+        for i in range(len(x)):
+            for j in range(len(x)):
+                if i != j:
+                    pair = [i, j]
+                    f, drho = oracle(x[pair], v[pair], got["rho"][pair], types[pair], "lucy",
+                                     0.3, 4)
+                    terms[i] += np.hypot(*f[0]), abs(drho[0])
+        cond = terms[:, 0].max() / np.hypot(got["fx"], got["fy"]).max()
+        if np.abs(got["drho"]).max() > 0:
+            cond = max(cond, terms[:, 1].max() / np.abs(got["drho"]).max())
+        assert cond <= case["condition"][stage], f"{stage}: condition {cond:.2f}"
+        if stage == "init":
+            f, drho = oracle(x, v, got["rho"], types, "lucy", 0.3, 4)
+            scale = np.abs(f).max()
+            assert np.abs(np.c_[got["fx"], got["fy"]] - f).max() <= 1e-6 * scale
+            assert np.abs(got["drho"] - drho).max() <= 1e-6 * np.abs(got["drho"]).max() + 1e-300
