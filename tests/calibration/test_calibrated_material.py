@@ -110,7 +110,7 @@ def test_cgms_study_reaches_the_fitted_states_with_the_fallback(tmp_path, capsys
     0.3 with this file (a bead leaves the cutoff, or the tissue folds), the dynamics solves
     those levels, the table says so, and the states are the fit's (the RMSD against the MFC
     that the header quotes). (A level outside a file's VALID FOR range is named and not run:
-    tests/test_cli.py.)"""
+    tests/cli/test_cli.py.)"""
     require_lammps()
     from cgmstest import run_cli
     monkeypatch.chdir(tmp_path)

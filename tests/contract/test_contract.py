@@ -23,9 +23,10 @@ output times the case's ``condition`` for the stage (the cancellation in its sum
 in each YAML from the oracle or the law, never from a run), so an output ``q`` is compared
 as ``|q - q_yaml| <= epsilon max|q_yaml|``, ``epsilon = terms_per_bead * condition *
 2**-52``; a global output, a sum over the beads, has ``natoms`` times the terms and is
-compared to ``natoms * epsilon`` of its value (a tensor's components: of the largest). After ``run_steps`` steps the errors of each step add
-(the damped dynamics does not amplify them: tests/README.md), so ``run_*`` get
-``run_steps + 1`` times their ``epsilon``. The restart and data-file runs read values written
+compared to ``natoms * epsilon`` of its value (a tensor's components: of the largest).
+After ``run_steps`` steps the errors of each step add (the damped dynamics does not
+amplify them: tests/README.md), so ``run_*`` get ``run_steps + 1`` times their
+``epsilon``. The restart and data-file runs read values written
 to 17 digits (restart: bit-exact) and recompute the same sums: the same ``epsilon``.
 A case with an iterative linear solve adds, per step, twice (one solve in each run) its
 bound ``kappa * tol`` on a solution's relative error (tests/README.md, "iterative
@@ -266,7 +267,8 @@ def test_pair_cgms_yaml_agrees_with_the_oracle():
                                           CUTOFF, implicit_dt=case["timestep"])
             cond = max(cancellation(xy, v, got["dryness"], fluid["cgmscoef"], mat, got),
                        mat["K"] / np.max(np.abs(got["pressure"])))
-            assert cond <= case["condition"][stage], f"{path.name} {stage}: condition {cond:.2f}"
+            assert cond <= case["condition"][stage], \
+                f"{path.name} {stage}: condition {cond:.2f}"
             if stage == "run":
                 continue  # its forces used the half-step velocities, not the dumped ones
             f, pe, vir = reference.pair_forces(xy, v, got["dryness"], fluid["cgmscoef"], mat,
@@ -281,7 +283,8 @@ def test_pair_cgms_yaml_agrees_with_the_oracle():
             for name, (a, b) in checks.items():
                 a, b = np.asarray(a, float), np.asarray(b, float)
                 err, scale = np.max(np.abs(a - b)), np.max(np.abs(b))
-                assert err <= 1e-10 * scale, f"{path.name} {stage} {name}: {err:.2e} of {scale:.2e}"
+                assert err <= 1e-10 * scale, \
+                    f"{path.name} {stage} {name}: {err:.2e} of {scale:.2e}"
 
 
 def test_balance_yaml_agrees_with_the_oracle():
@@ -304,7 +307,8 @@ def test_balance_yaml_agrees_with_the_oracle():
         f, pe, _ = reference.pair_forces(xy, v, s, got["cgmscoef"], mat, CUTOFF, damping=False)
         frozen = case[f"{stage}_global"]
         checks = {"pressure": (got["pressure"], -s * mat["Pi_f"]),
-                  "nneigh": (got["nneigh"], geo["nneigh"]), "perim": (got["perim"], geo["perim"]),
+                  "nneigh": (got["nneigh"], geo["nneigh"]),
+                  "perim": (got["perim"], geo["perim"]),
                   "ldeq": (got["ldeq"], geo["ldeq"]),
                   "fx": (got["fx"], f[:, 0]), "fy": (got["fy"], f[:, 1]),
                   "pair energy": (frozen["pe"], pe),
@@ -363,4 +367,4 @@ def test_sph_yaml_agrees_with_the_oracle():
             f, drho = oracle(x, v, got["rho"], types, "lucy", 0.3, 4)
             scale = np.abs(f).max()
             assert np.abs(np.c_[got["fx"], got["fy"]] - f).max() <= 1e-6 * scale
-            assert np.abs(got["drho"] - drho).max() <= 1e-6 * np.abs(got["drho"]).max() + 1e-300
+            assert np.abs(got["drho"] - drho).max() <= 1e-6 * np.abs(drho).max() + 1e-300

@@ -1,14 +1,14 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""Bad input, second part (issue 6): the cases tests/test_errors.py does not cover. Each
-asserts the specific message: LAMMPS's own where it is clear (data files, restart files,
-unwritable outputs), the plugin's, or the Python tools' (tissue builder command line,
-morphology).
+"""Bad input, second part (issue 6): the cases tests/errors/test_style_input.py does not
+cover. Each asserts the specific message: LAMMPS's own where it is clear (data files,
+restart files, unwritable outputs), the plugin's, or the Python tools' (tissue builder
+command line, morphology).
 
 LAMMPS: the fix without the pair style, data files with missing, extra or non-numeric
 columns, a truncated or corrupt restart file, a restart file read without the plugin,
-outputs that cannot be written, and fix cgms/fluid keywords test_errors.py leaves out.
+outputs that cannot be written, and fix cgms/fluid keywords test_style_input.py leaves out.
 Python: ``python3 -m cgms.tissue`` given an empty or self-intersecting outline, a
 negative size or an output it cannot write (a message and exit status, no traceback,
 no file), and cgms.morphology given a dump without the needed columns."""
@@ -63,7 +63,7 @@ def folder(tmp_path):
      f"pair_coeff * * cgms {APPLE}\npair_coeff * * lj/cut 1e-20 1e-4"),
 ], ids=["none", "lj-cut", "hybrid-overlay"])
 def test_fix_without_pair_cgms(folder, pair, coeff):
-    """(pair cgms without the fix is in test_errors.py)"""
+    """(pair cgms without the fix is in test_style_input.py)"""
     error = lammps_error(folder, script(pair=pair, coeff=coeff))
     assert "Fix cgms/fluid requires pair_style cgms" in error, error
 

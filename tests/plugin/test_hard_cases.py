@@ -33,7 +33,7 @@ off by default: doc/pair_cgms.rst) makes the same case healthy.
 
 Long variants are marked ``slow`` and skipped unless CGMS_SLOW is set:
 
-    CGMS_SLOW=1 /usr/bin/python3 -m pytest -q -m slow tests/test_hard_cases.py
+    CGMS_SLOW=1 /usr/bin/python3 -m pytest -q -m slow tests/plugin/test_hard_cases.py
 """
 
 import math
