@@ -8,9 +8,9 @@ the global outputs (pair energy, virial, the fix's scalar and vector) and named 
 values. Only outputs are frozen (dumps and thermo), never how a style computes them.
 
 One test per case runs it on 1 and 2 ranks (``mpirun -np 2``, ``processors 2 1 1``) with
-``newton`` on and off, through ``write_restart``/``read_restart`` and through
-``write_data``/``read_data`` (both compared with ``init_*``, as LAMMPS compares its
-restart and data runs), and compares everything with the YAML.
+``newton`` on and off, and reads the serial run's ``write_restart`` and ``write_data``
+files back on 1 rank (``newton on``) and on 2 (``newton off``), those compared with
+``init_*`` as LAMMPS compares its restart and data runs; everything against the YAML.
 ``./cgms test tests/contract --regenerate`` rewrites the frozen values from the serial
 ``newton on`` run (LAMMPS's ``-g``); then review the diff, and run the case's independent
 check (the YAML's ``independent_check``) before committing.
@@ -43,14 +43,12 @@ import yaml
 import reference
 from cgmstest import CUTOFF, PLUGIN, ROOT, material, run_lmp
 
-pytestmark = [pytest.mark.lammps, pytest.mark.mpi]
-
 HERE = Path(__file__).resolve().parent
 CASES = sorted(HERE.glob("*.yaml"))
 ULP = 2.0 ** -52
 #: the configurations compared with the YAML: (ranks, newton, how the input is read)
 CONFIGS = [(1, "on", "input"), (1, "off", "input"), (2, "on", "input"), (2, "off", "input"),
-           (1, "on", "restart"), (1, "on", "data")]
+           (1, "on", "restart"), (1, "on", "data"), (2, "off", "restart"), (2, "off", "data")]
 
 
 def load(path):
@@ -195,6 +193,8 @@ def differences(case, got, stage, eps):
     return bad
 
 
+@pytest.mark.lammps
+@pytest.mark.mpi
 @pytest.mark.parametrize("path", CASES, ids=[p.stem for p in CASES])
 def test_contract(path, tmp_path, request):
     case = load(path)
