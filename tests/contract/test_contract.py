@@ -24,10 +24,11 @@ in each YAML from the oracle or the law, never from a run), so an output ``q`` i
 as ``|q - q_yaml| <= epsilon max|q_yaml|``, ``epsilon = terms_per_bead * condition *
 2**-52``; a global output, a sum over the beads, has ``natoms`` times the terms and is
 compared to ``natoms * epsilon`` of its value (a tensor's components: of the largest).
-After ``run_steps`` steps the errors of each step add (the damped dynamics does not
-amplify them: tests/README.md), so ``run_*`` get ``run_steps + 1`` times their
-``epsilon``. The restart and data-file runs read values written
-to 17 digits (restart: bit-exact) and recompute the same sums: the same ``epsilon``.
+After ``run_steps`` steps the errors of each step add (an integrator at a time step
+inside its stability limit does not amplify them: tests/README.md), so ``run_*`` get
+``run_steps + 1`` times their ``epsilon``, with the ``condition`` of the run's last state.
+The restart and data-file runs read values written to 17 digits (restart: bit-exact) and
+recompute the same sums: the same ``epsilon``.
 A case with an iterative linear solve adds, per step, twice (one solve in each run) its
 bound ``kappa * tol`` on a solution's relative error (tests/README.md, "iterative
 solve"), ``kappa`` bounding the matrix's condition number (stated in its YAML)."""
