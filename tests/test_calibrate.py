@@ -11,8 +11,8 @@ import time
 import numpy as np
 import pytest
 
-from cgms import (calibrate, cli, fitparams, material, morphology, pool, positions, study,
-                  superpose, tissue)
+from cgms.calibration import calibrate, fitparams
+from cgms import cli, material, morphology, pool, positions, study, superpose, tissue
 from cgmstest import APPLE, MAT
 
 # the reference parameters of the recovery test: factors on apple's values

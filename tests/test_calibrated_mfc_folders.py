@@ -5,7 +5,7 @@
 reads them by tissue name: doc/calibration.md)."""
 
 from cgms.cli import MICROSCALE
-from cgms.mfc_cli import SINGLE, folder_name
+from cgms.cli.mfc import SINGLE, folder_name
 
 
 def test_every_named_tissue_has_its_own_folder():

@@ -13,7 +13,8 @@ from scipy.ndimage import gaussian_filter1d
 
 import crank
 from cgmstest import MAT
-from cgms import morphology, tissue, transport
+from cgms import morphology, tissue
+from cgms.drying import transport
 
 RHO_S = 120.0   # dry solid per tissue volume, kg/m^3 (any value: it cancels)
 D = 1e-9

@@ -13,7 +13,8 @@ import pytest
 
 import crank
 from cgmstest import PLUGIN, ROOT, read_dump, run_lmp, slow
-from cgms import tissue, transport
+from cgms import tissue
+from cgms.drying import transport
 
 PARAMS_FILE = ROOT / "potentials" / "apple-drying.params"
 A = 1.5e-4            # lattice spacing (m)

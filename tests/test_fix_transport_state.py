@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from cgmstest import PLUGIN, read_dump, run_lmp
-from cgms import tissue, transport
+from cgms import tissue
+from cgms.drying import transport
 from test_fix_transport import A, CUT, PARAMS_FILE, jittered, read_params
 
 LAYERS = 4

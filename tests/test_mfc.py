@@ -18,7 +18,9 @@ from scipy.optimize import brentq
 
 from cgmstest import PLUGIN, ROOT, lammps_env, read_dump, run_lmp
 
-from cgms import mfc_metrics, mfc_model, mfc_run, mfc_tissue, run, tissue
+from cgms.mfc import (metrics as mfc_metrics, model as mfc_model, run as mfc_run,
+                      tissue as mfc_tissue)
+from cgms import run, tissue
 
 P = mfc_model.parameters()
 N = P["n_wall"]
@@ -424,7 +426,7 @@ def test_newton_stiffness_matches_the_force_differences_column_by_column(tmp_pat
     """cgms.mfc_newton builds the stiffness from few force evaluations (particles of one
     colour displaced together, the cells' fluid stiffness taken out as a rank-one term);
     against the plain finite differences, one particle at a time, on two dried cells."""
-    from cgms import mfc_newton
+    from cgms.mfc import newton as mfc_newton
     from cgms.solve import colour
     lmp = open_cells(tmp_path, [[0.0, 0.0], [P["x_ref"], 0.0]])
     try:
@@ -462,7 +464,7 @@ def test_newton_finishes_a_dried_cluster_to_the_force_test(tmp_path):
     """From the minimiser's state two chunks into s = 0.6 (7 cells), Newton's method
     reaches a largest force of 1e-12 N in a few steps, at a lower energy; the minimiser
     alone is still at 1e-7 N there (doc/mfc.md, "Newton")."""
-    from cgms import mfc_newton
+    from cgms.mfc import newton as mfc_newton
     lmp = open_cells(tmp_path, [[0.0, 0.0]] + [
         [P["x_ref"] * math.cos(a), P["x_ref"] * math.sin(a)]
         for a in np.arange(6) * math.pi / 3 + math.pi / 2])
@@ -484,7 +486,7 @@ def fast_then_sph(folder, s, steps):
     cgms.mfc_sph.write_state) and run
     ``steps`` steps of 2 ns. Returns the fast walls, the SPH walls, the SPH fluid's
     pressures (Pa) and write_state's report."""
-    from cgms import mfc_sph
+    from cgms.mfc import sph as mfc_sph
     lmp = open_cells(folder, [[0.0, 0.0]])
     try:
         report = mfc_run.ramp(lmp, P, None, s, ftol=1e-11)
@@ -720,7 +722,7 @@ def test_study_resume_names_a_damaged_record_and_keeps_close_levels_apart(tmp_pa
     """A level record cut short (the run killed while writing it) stops the resume with a
     message naming the file, not a JSON traceback; levels that %g would round alike get
     files of their own. Both checks read only records: no LAMMPS run."""
-    from cgms import mfc_study
+    from cgms.mfc import study as mfc_study
     folder = tmp_path / "single"
     folder.mkdir()
     (folder / "level.s1.json").write_text('{"s": 1.0, "cell_area/A0"')
@@ -864,7 +866,7 @@ def test_lamella_holds_a_loaded_pair_and_the_lj_alone_gives_way(tmp_path_factory
 
 @pytest.mark.lammps
 def test_lamella_set_in_the_fresh_tissue_is_at_rest_there_and_kept_on_resume(tmp_path):
-    from cgms import mfc_study
+    from cgms.mfc import study as mfc_study
     p = mfc_model.parameters(lamella="fresh")
     mfc_study.dry(SEVEN, p, tmp_path, (1.0,), say=lambda line: None)
     assert not (tmp_path / "lamella.data").exists()   # set only when a dried level needs it

@@ -177,7 +177,8 @@ def test_dynamics_ramp_starts_with_the_fluid_in_osmotic_balance(small_tissue, tm
 def test_calibration_runner_ramp_matches_the_study_ramp(small_tissue, tmp_path):
     """cgms.pool's ramp (fit.py --start previous): the levels of one parameter vector in
     sequence, each from the previous one's steady state; the same states as the study's."""
-    from cgms import calibrate, pool
+    from cgms.calibration import calibrate
+    from cgms import pool
     levels = (1.0, 0.6, 0.4)
     swept = ramp(small_tissue, tmp_path / "study", levels=levels)
     (tmp_path / "fit").mkdir()

@@ -19,7 +19,8 @@ import sys
 from datetime import datetime
 from pathlib import Path
 
-from cgms import material, mfc_model, mfc_study, tissue
+from cgms import material, tissue
+from cgms.mfc import model as mfc_model, study as mfc_study
 
 #: the MFC values potato changes (the rest are mfc_model.MFC's):
 #: - wall_Et: the wall is given the same turgid strain as apple's MFC wall (4.5 %:

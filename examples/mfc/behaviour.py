@@ -16,7 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from cgms import mfc_model, morphology, positions, tissue
+from cgms.mfc import model as mfc_model
+from cgms import morphology, positions, tissue
 from cgms.cli import MICROSCALE
 
 

@@ -37,7 +37,9 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-from cgms import mfc_metrics, mfc_model, mfc_run, mfc_sph, mfc_tissue, run
+from cgms.mfc import (metrics as mfc_metrics, model as mfc_model, run as mfc_run, sph as mfc_sph,
+                      tissue as mfc_tissue)
+from cgms import run
 
 STEPS = 2000          # SPH steps per chunk (4 us at dt = 2 ns)
 STAGE_STEPS = 4000    # SPH steps per ramp stage

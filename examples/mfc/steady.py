@@ -25,7 +25,9 @@ import time
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from cgms import mfc_metrics, mfc_model, mfc_newton, mfc_run, run, superpose
+from cgms.mfc import (metrics as mfc_metrics, model as mfc_model, newton as mfc_newton,
+                      run as mfc_run)
+from cgms import run, superpose
 from cgms.solve import colour, without_rigid_motion
 
 

@@ -29,7 +29,8 @@ import math
 import numpy as np
 
 from . import material as material_file
-from . import mfc_metrics, mfc_run, mfc_tissue, positions, run, study, tissue
+from .mfc import metrics as mfc_metrics, run as mfc_run, tissue as mfc_tissue
+from . import positions, run, study, tissue
 
 #: shear strains of the measurement (the brief: 0.5, 1, 2 %), and uniaxial compressions
 GAMMAS = (0.005, 0.01, 0.02)

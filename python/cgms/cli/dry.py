@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import drying, folders, material, morphology, parallel, positions, study, tissue
+from .. import drying, folders, material, morphology, parallel, positions, study, tissue
 
 
 #: the longest drying the command runs: a moisture step is at most 10 min
@@ -51,7 +51,7 @@ OUTPUTS = ("drying.csv", "drying.png", "moisture.png", "case-hardening.png", "ti
 
 
 def add_arguments(p):
-    from .cli import levels, material_overrides
+    from . import levels, material_overrides
     p.add_argument("--temperature", type=float, default=70.0, help="air temperature, C")
     p.add_argument("--humidity", type=float, default=0.1,
                    help="air relative humidity, 0-1 (default 0.1)")
@@ -103,7 +103,7 @@ def add_arguments(p):
 
 
 def _usage(text):
-    from .cli import UsageError
+    from . import UsageError
     return UsageError(text)
 
 
@@ -134,7 +134,7 @@ def _tissue(args, mat):
     """The tissue of --data or --width x --height (a dict as cli.file_tissue's), checked
     before anything is written: enough beads, positions in metres, ids 1..N, every bead
     with a neighbour (moisture must move in and out of it) and an outline with an area."""
-    from . import cli
+    from .. import cli
 
     if args.data:
         what = f"--data {args.data}"
@@ -192,7 +192,7 @@ def _mechanics_range(args, mat_file):
 
 
 def job(args):
-    from .cli import failure
+    from . import failure
     try:
         world = parallel.world(lambda err: failure(err, args))
         return _job(args, world)
@@ -214,7 +214,7 @@ def _job(args, world):
             if world.rank > 0:
                 return None
             out = stack.enter_context(folders.claim(args.out, "drying"))
-            from .cli import write_tissue
+            from . import write_tissue
             return out, write_tissue(out, t, mat)
 
         out, data = world.first(world.together(claim))
@@ -237,7 +237,7 @@ def _inputs(args):
 
 
 def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
-    from . import plots
+    from .. import plots
 
     xy = t["xy"]
     conditions = dict(temperature=args.temperature, humidity=args.humidity,
@@ -352,7 +352,7 @@ def written(out):
 
 def plots_drying(rows, path):
     """Drying curve, rate, surface and core moisture, and the shape, against time and X/X0."""
-    from . import plots  # noqa: F401  (selects the non-interactive backend)
+    from .. import plots  # noqa: F401  (selects the non-interactive backend)
     import matplotlib.pyplot as plt
 
     t = np.array([r["t_h"] for r in rows])

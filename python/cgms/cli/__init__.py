@@ -24,9 +24,11 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import (calibrate, dry_cli, fitparams, folders, material, mfc_cli, morphology, parallel,
-               pictures, plots, positions, study, superpose, tissue)
-from .fitparams import BETA_BOUNDS, BOUNDS
+from ..calibration import calibrate, fitparams
+from . import dry as dry_cli, mfc as mfc_cli
+from .. import (folders, material, morphology, parallel, pictures, plots, positions, study,
+                superpose, tissue)
+from ..calibration.fitparams import BETA_BOUNDS, BOUNDS
 
 DEFAULT_LEVELS = ",".join(f"{s:g}" for s in study.LEVELS)
 
@@ -361,7 +363,7 @@ def target_job(args):
 
 def sensitivity_job(args):
     """The paper's section 4.4 on the 86-bead tissue (or --data): table, plot."""
-    from . import sensitivity
+    from ..calibration import sensitivity
 
     with tissue_in_folder(args, "sensitivity") as job:
         out = job.out

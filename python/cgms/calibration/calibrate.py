@@ -46,9 +46,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import fitparams, folders, material as material_mod, morphology, positions
-from .pool import CACHE, Runner  # noqa: F401 - CACHE: the cache file name, for callers
-from .superpose import ALIGN, align
+from . import fitparams
+from .. import folders, material as material_mod, morphology, positions
+from ..pool import CACHE, Runner  # noqa: F401 - CACHE: the cache file name, for callers
+from ..superpose import ALIGN, align
 
 #: forward-difference step in ln(value): large against the FIRE noise of the steady state
 #: (about 2e-7 x_ref on positions), small against the curvature

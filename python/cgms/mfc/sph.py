@@ -22,8 +22,9 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from . import folders, mfc_metrics, mfc_run, mfc_tissue, tissue
-from .mfc_model import level
+from .. import folders, tissue
+from . import metrics as mfc_metrics, run as mfc_run, tissue as mfc_tissue
+from .model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
 SUPPORT = 13.0e-6    # kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)

@@ -7,7 +7,7 @@ steady state of the same setting."""
 
 from pathlib import Path
 
-from . import material, study
+from .. import material, study
 
 # factor sets of the paper's Figs 10-15; None for beta means "without periphery treatment"
 FACTORS = {

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from .mfc_model import level
+from .model import level
 
 DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
                 max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg",
@@ -148,7 +148,7 @@ def positions(lmp):
 
 def _cells(lmp, n_wall):
     """Area centroids and areas of the cells (the polygon measures of cgms.mfc_metrics)."""
-    from .mfc_metrics import cells
+    from .metrics import cells
     c = cells(positions(lmp), n_wall)
     return c["centroid"], c["area"]
 
@@ -243,7 +243,7 @@ def _newton(lmp, p, ftol, before=None, iterations=40):
     ``iterations`` steps. Returns its totals added to ``before`` (attempts, iterations,
     force evaluations, seconds); a failure (no step lowers the energy) is recorded, not
     raised: the minimiser carries on."""
-    from .mfc_newton import newton
+    from .newton import newton
     total = dict(before or dict(attempts=0, iterations=0, evaluations=0, seconds=0.0))
     try:
         r = newton(lmp, p, ftol=ftol, max_iterations=iterations)

@@ -26,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import folders, mfc_metrics, mfc_run, mfc_tissue, morphology, positions, run, study
-from .study import level_name
+from .. import folders, morphology, positions, run, study
+from . import metrics as mfc_metrics, run as mfc_run, tissue as mfc_tissue
+from ..study import level_name
 
 
 def _write_cells(path, cell):

@@ -33,8 +33,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
-from .solve import (LammpsForces, colour, colouring_holds, step_accepted,
-                    without_rigid_motion)
+from ..solve import LammpsForces, colour, colouring_holds, step_accepted, without_rigid_motion
 
 
 def area_gradient(xy, n_wall):
