@@ -1,8 +1,8 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""Calibration (cgms.calibrate): eqn (2), matching references to beads, recovery of known
-parameters from CGMS's own steady states, resuming, the fitted material file."""
+"""Calibration (cgms.calibration.calibrate): eqn (2), matching references to beads,
+recovery of known parameters from CGMS's own steady states, resuming, the fitted material file."""
 
 import json
 import math

@@ -4,7 +4,7 @@
 """The MFC study gives every tissue its own results folder (the calibration against the MFC
 reads them by tissue name: doc/calibration.md)."""
 
-from cgms.cli import MICROSCALE
+from cgms.tissue import MICROSCALE
 from cgms.cli.mfc import SINGLE, folder_name
 
 

@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""Moisture transport (cgms.transport) against Crank's analytic solutions, water balance,
+"""Moisture transport (cgms.drying.transport) against Crank's analytic solutions, water balance,
 and the apple surface law (doc/drying.md). No LAMMPS: the mechanics is frozen here."""
 
 import math

@@ -42,7 +42,7 @@ def open_cells(folder, centres, s=1.0, jitter=0.0, seed=0, extra=()):
 
 def eos(area, fluid_area, turgor):
     """CGMS eqn (4) with rho / rho0 = fluid area / area (written here, independent of
-    cgms.mfc_model)."""
+    cgms.mfc.model)."""
     return turgor + 2.0e7 * ((fluid_area / area) ** 7 - 1)
 
 
@@ -89,7 +89,7 @@ def test_builder_cells_sit_on_the_cgms_beads():
 
 
 def test_builder_cell_counts_and_bad_centres():
-    from cgms.cli import MICROSCALE
+    from cgms.tissue import MICROSCALE
     counts = [len(tissue.rectangle(w * 1e-3, h * 1e-3, P["x_ref"])) for w, h in MICROSCALE.values()]
     assert counts == [86, 105, 149, 182, 203, 248]
     with pytest.raises(ValueError, match="closer than the cell spacing"):
@@ -423,7 +423,7 @@ def test_newton_after_a_spent_budget_counts_its_calls(tmp_path, monkeypatch, fai
 
 @pytest.mark.lammps
 def test_newton_stiffness_matches_the_force_differences_column_by_column(tmp_path):
-    """cgms.mfc_newton builds the stiffness from few force evaluations (particles of one
+    """cgms.mfc.newton builds the stiffness from few force evaluations (particles of one
     colour displaced together, the cells' fluid stiffness taken out as a rank-one term);
     against the plain finite differences, one particle at a time, on two dried cells."""
     from cgms.mfc import newton as mfc_newton
@@ -483,7 +483,7 @@ def test_newton_finishes_a_dried_cluster_to_the_force_test(tmp_path):
 def fast_then_sph(folder, s, steps):
     """The fast variant's steady state of one cell at level ``s``, then the SPH model
     started there (the ring filled with fluid at rest at the fast variant's pressure,
-    cgms.mfc_sph.write_state) and run
+    cgms.mfc.sph.write_state) and run
     ``steps`` steps of 2 ns. Returns the fast walls, the SPH walls, the SPH fluid's
     pressures (Pa) and write_state's report."""
     from cgms.mfc import sph as mfc_sph
@@ -536,7 +536,7 @@ def test_sph_holds_the_dried_steady_state_of_the_fast_variant(tmp_path):
     # the fluid is at the fast variant's small suction (about -1 kPa), quiet
     assert abs(pressure.mean()) < 5e3 and pressure.std() < 5e3
     # its amount: the lattice points (spacing h) inside the ring and at least the margin m
-    # from its polyline (cgms.mfc_sph.fill), h^2 each, count the region whose area is
+    # from its polyline (cgms.mfc.sph.fill), h^2 each, count the region whose area is
     # A - m L + pi m^2 (Steiner's formula for the inner parallel set: exact while that set's
     # boundary does not cross itself; here within 5e-4 of 10x and 20x finer lattices).
     # A lattice count misses a region's area by one error per boundary cell, spread evenly

@@ -34,7 +34,7 @@ from cgms.mfc import model as mfc_model, study as mfc_study
 #:   and foreign potato cultivars", doi 10.1007/BF02851771; abstract).
 POTATO_MFC = dict(wall_Et=660.0, wall_thickness=1.0e-6)
 
-#: the apple calibration tissue (mm), cgms.cli.MICROSCALE["calibration"]
+#: the apple calibration tissue (mm), cgms.tissue.MICROSCALE["calibration"]
 APPLE_CALIBRATION = (1.25e-3, 1.5e-3)
 
 

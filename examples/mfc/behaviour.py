@@ -18,7 +18,7 @@ import numpy as np
 
 from cgms.mfc import model as mfc_model
 from cgms import morphology, positions, tissue
-from cgms.cli import MICROSCALE
+from cgms.tissue import MICROSCALE
 
 
 def edge_of(xy, factor):

@@ -19,7 +19,7 @@ import numpy as np
 
 from cgms.mfc import model as mfc_model, study as mfc_study
 from cgms import morphology, tissue
-from cgms.cli import MICROSCALE
+from cgms.tissue import MICROSCALE
 
 
 def cluster(rings, spacing):

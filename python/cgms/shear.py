@@ -180,7 +180,7 @@ def _ids(values):
 
 def mfc(centres, row, p, s, folder, solver=None, **kwargs):
     """The shear and uniaxial test of the fine model (fast variant, the lamella set in the
-    relaxed fresh block as in the reference, ``cgms.mfc_study``) at dryness ``s``: the
+    relaxed fresh block as in the reference, ``cgms.mfc.study``) at dryness ``s``: the
     fresh block relaxed, glued, dried along the ramp to ``s``, then :func:`load`. Returns
     the :func:`load` result with the free state's width, row gap and relax reports."""
     from pathlib import Path

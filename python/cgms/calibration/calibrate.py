@@ -24,7 +24,7 @@ parameters minimise it. Here:
   (``align="translation"``, default) or translation and rotation (``"rigid"``); the RMSD
   is then the minimum of eqn (2) over those motions (``"none"``: eqn (2) as written;
   :mod:`cgms.superpose`);
-- **parameters** (``parameters=``): see :mod:`cgms.fitparams`;
+- **parameters** (``parameters=``): see :mod:`cgms.calibration.fitparams`;
 - **minimiser**: eqn (2) is a root mean square of residuals, so the fit minimises the mean
   over levels of RMSD^2 as a bounded nonlinear least-squares problem
   (:func:`scipy.optimize.least_squares`, trust-region reflective) with a forward-difference

