@@ -238,7 +238,7 @@ def _inputs(args):
 
 
 def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
-    from .. import plots
+    from .. import pictures
 
     xy = t["xy"]
     conditions = dict(temperature=args.temperature, humidity=args.humidity,
@@ -304,11 +304,13 @@ def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
         study.write_csv(rows, out / "drying.csv", columns=keys)
         plots_drying(rows, out / "drying.png")
     if maps:
-        plots.snapshots([(f"X/X0 = {r['X/X0']:.2f}, {r['t_h']:.2f} h", s["xy"], s["s"])
-                         for _, r, s in maps], out / "moisture.png", "bead X/X0 (column mean)")
-        plots.snapshots([(f"X/X0 = {r['X/X0']:.2f}", s["xy"], s["core"] - s["surface"])
-                         for _, r, s in maps], out / "case-hardening.png",
-                        "core - surface X/X0", cmap="magma")
+        pictures.snapshots([dict(title=f"X/X0 = {r['X/X0']:.2f}, {r['t_h']:.2f} h",
+                                 xy=s["xy"], values=s["s"], fresh_xy=None)
+                            for _, r, s in maps], out / "moisture.png", "bead X/X0 (column mean)")
+        pictures.snapshots([dict(title=f"X/X0 = {r['X/X0']:.2f}", xy=s["xy"],
+                                 values=s["core"] - s["surface"], fresh_xy=None)
+                            for _, r, s in maps], out / "case-hardening.png",
+                           "core - surface X/X0", cmap="magma")
     if stopped:
         when = (f"at t = {rows[-1]['t_h']:.3f} h (X/X0 = {rows[-1]['X/X0']:.3f}); the results "
                 f"up to then: {written(out)}") if rows else \
@@ -353,7 +355,7 @@ def written(out):
 
 def plots_drying(rows, path):
     """Drying curve, rate, surface and core moisture, and the shape, against time and X/X0."""
-    from .. import plots  # noqa: F401  (selects the non-interactive backend)
+    from .. import pictures  # noqa: F401  (selects the non-interactive backend)
     import matplotlib.pyplot as plt
 
     t = np.array([r["t_h"] for r in rows])

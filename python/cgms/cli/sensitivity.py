@@ -3,7 +3,7 @@
 # see the LICENSE file in the top-level directory.
 """``python3 -m cgms sensitivity``: the paper's sensitivity study (k_T, k_PA, beta)."""
 
-from .. import morphology, plots, study
+from .. import pictures, study
 from ..calibration import sensitivity
 from .options import tissue_source_arguments
 from .tissues import tissue_in_folder
@@ -22,32 +22,12 @@ def job(args):
         if failed:
             (out / "failed.txt").write_text(
                 "".join(f"{r['parameter']} x {r['factor']}: {r['failed']}\n" for r in failed))
-        plots.sensitivity(done, out / "sensitivity.png")
-        snapshots(out, done, sensitivity.FACTORS)
+        pictures.sensitivity(done, out / "sensitivity.png")
+        sensitivity.snapshots(out, done)
         print(f"cgms: table {out}/sensitivity.csv, plots {out}/sensitivity.png and "
               f"{out}/snapshots-*.png"
               + (f", failed settings {out}/failed.txt" if failed else ""))
     return 0
-
-
-def snapshots(out, done, factors):
-    """Snapshots like the paper's Figs 10, 12 and 14: the dried tissue of every setting,
-    coloured by its local shrinkage from its own fresh state."""
-    for parameter in factors:
-        panels = []
-        setting = [r for r in done if r["parameter"] == parameter]
-        for r in (r for r in setting if r["s"] == 0.3):
-            def final(s):
-                row = next(q for q in setting if q["factor"] == r["factor"] and q["s"] == s)
-                folder = out / f"{parameter}-{r['factor']}"
-                folder = folder / "dynamics" if row["method"] == "dynamics" else folder
-                return morphology.read_dump(folder / f"tissue.{study.level_name(s)}.dump")[-1]
-            dried, fresh = final(0.3), final(1.0)
-            panels.append((f"{parameter} x {r['factor']}", dried["xy"],
-                           morphology.shrinkage(dried["xy"], fresh["xy"])))
-        if panels:
-            plots.snapshots(panels, out / f"snapshots-{parameter}.png",
-                            "local area shrinkage (s = 0.3)", cmap="magma")
 
 
 def arguments(q):

@@ -7,7 +7,7 @@ moisture levels; the table of A/A0, P/P0, EL/EL0."""
 import sys
 from datetime import datetime
 
-from .. import folders, pictures, plots, study, tissue
+from .. import folders, pictures, study, tissue
 from .options import (UsageError, check_fallback, common_arguments, fallback_argument,
                       fallback_of, positive_float, sweep_arguments)
 from .tissues import chosen_tissue, material_of, rectangle_tissue, tissue_in_folder, write_tissue
@@ -34,7 +34,7 @@ def dry(out, name, t, mat_file, mat, levels, args):
     for r in rows:
         r["tissue"] = name
         r["beads"] = n
-    plots.curves(rows, folder / "curves.png", title=f"{name}: {n} beads")
+    pictures.curves_all({name: rows}, folder / "curves.png", title=f"{name}: {n} beads")
     # the pictures of the cells at every level are drawn by pictures.study_pictures
     return rows
 
