@@ -3,7 +3,7 @@
 # see the LICENSE file in the top-level directory.
 """Analytic solutions of Fick's second law with a convective boundary (Crank 1975, The
 Mathematics of Diffusion, 2nd ed., eqs 4.53-4.54 for the plane sheet and 5.50-5.52 for the
-infinite cylinder), independent of cgms.transport: the mean and the local concentration
+infinite cylinder), independent of cgms.drying.transport: the mean and the local concentration
 relative to the initial uniform one, the surroundings at zero."""
 
 import numpy as np

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from cgms import morphology, positions, study, superpose
-from cgms.cli import MICROSCALE
+from cgms.tissue import MICROSCALE
 
 LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3)
 KEYS = ("A/A0", "P/P0", "EL/EL0")

@@ -51,7 +51,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from cgms import calibrate
+from cgms.calibration import calibrate
 from cgms.model import CUTOFF_LJ
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))

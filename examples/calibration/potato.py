@@ -19,7 +19,8 @@ import sys
 from datetime import datetime
 from pathlib import Path
 
-from cgms import material, mfc_model, mfc_study, tissue
+from cgms import material, tissue
+from cgms.mfc import model as mfc_model, study as mfc_study
 
 #: the MFC values potato changes (the rest are mfc_model.MFC's):
 #: - wall_Et: the wall is given the same turgid strain as apple's MFC wall (4.5 %:
@@ -33,7 +34,7 @@ from cgms import material, mfc_model, mfc_study, tissue
 #:   and foreign potato cultivars", doi 10.1007/BF02851771; abstract).
 POTATO_MFC = dict(wall_Et=660.0, wall_thickness=1.0e-6)
 
-#: the apple calibration tissue (mm), cgms.cli.MICROSCALE["calibration"]
+#: the apple calibration tissue (mm), cgms.tissue.MICROSCALE["calibration"]
 APPLE_CALIBRATION = (1.25e-3, 1.5e-3)
 
 

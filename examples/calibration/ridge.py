@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from cgms import material, positions, study, superpose, tissue
-from cgms.cli import MICROSCALE
+from cgms.tissue import MICROSCALE
 
 ROOT = Path(__file__).resolve().parents[2]
 REFERENCE = ROOT / "reference" / "mfc"

@@ -12,7 +12,7 @@ one whose water content is s times that of the tissue's own fresh (s = 1) steady
 i.e. the MFC's level s (its fluid mass is s times the fresh one): the dryness s0 that
 reaches it is found by Brent's method (xtol 1e-4) and printed. Each steady state is the quasi-static solve, and where FIRE
 stops (a bead pushed out of its neighbours' cutoff by a long minimiser step) or reaches
-its limit, the dynamics at dt = 5e-8 s (cgms.study.relax_or_fallback, as cgms.calibrate
+its limit, the dynamics at dt = 5e-8 s (cgms.study.relax_or_fallback, as cgms.calibration.calibrate
 does). ``cgms main`` has no fallback: with a material fitted to the MFC, FIRE stops at
 s = 0.6 on the 86-bead tissue where the dynamics reaches a steady state.
 """
@@ -25,7 +25,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from cgms import material, study, tissue
-from cgms.cli import MICROSCALE
+from cgms.tissue import MICROSCALE
 
 
 def main(argv=None):

@@ -23,7 +23,8 @@ import math
 
 import numpy as np
 
-from cgms import drying, tissue, transport
+from cgms import drying, tissue
+from cgms.drying import transport
 
 R_GAS = transport.R_GAS
 KELVIN = transport.KELVIN

@@ -16,8 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from cgms import mfc_model, morphology, positions, tissue
-from cgms.cli import MICROSCALE
+from cgms.mfc import model as mfc_model
+from cgms import morphology, positions, tissue
+from cgms.tissue import MICROSCALE
 
 
 def edge_of(xy, factor):

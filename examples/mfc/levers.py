@@ -17,8 +17,9 @@ import sys
 
 import numpy as np
 
-from cgms import mfc_model, mfc_study, morphology, tissue
-from cgms.cli import MICROSCALE
+from cgms.mfc import model as mfc_model, study as mfc_study
+from cgms import morphology, tissue
+from cgms.tissue import MICROSCALE
 
 
 def cluster(rings, spacing):

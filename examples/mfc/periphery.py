@@ -15,7 +15,8 @@ import sys
 
 import numpy as np
 
-from cgms import mfc_metrics, mfc_model, morphology
+from cgms.mfc import metrics as mfc_metrics, model as mfc_model
+from cgms import morphology
 
 
 def edge(xy):

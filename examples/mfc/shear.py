@@ -28,7 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from cgms import folders, material, mfc_model, shear
+from cgms import folders, material, shear
+from cgms.mfc import model as mfc_model
 
 
 def _jsonable(o):

@@ -10,7 +10,7 @@ one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
     /usr/bin/python3 examples/mfc/sph_vs_fast.py 1 --ap 0.2 --kernel wendland [--path density]
 
 Default: both models dried along the same ramp from the fresh cell(s); ``--path`` is how
-SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with the
+SPH takes each stage (``cgms.mfc.sph.dry``: "affine", everything moved in with the
 fluid, or "density", the fluid put in tension, the route before), ``--mass`` how it sets the fluid mass
 ("scaled", s times the fresh fill's; "water", affine only: the fast variant's water s A0
 with the layer between fluid and wall, measured again once a level is reached), ``--ap`` Monaghan's
@@ -23,7 +23,7 @@ mean distance to the nearest fluid particle over the spacing (pairing), the pres
 next to the wall) and the fast variant's EOS pressure on its own ring and on SPH's.
 ``--from-fast``:
 the SPH model started from the fast variant's steady state of each level (every ring
-filled with SPH fluid at rest, ``cgms.mfc_sph.write_state``), walls optionally kicked at
+filled with SPH fluid at rest, ``cgms.mfc.sph.write_state``), walls optionally kicked at
 random by up to ``--kick`` um, and run ``--steps`` steps: does SPH stay there (or come
 back)? Prints, per level, the cell area, perimeter and centroid of both models, their
 differences (largest over the cells), the SPH fluid's pressure and the wall times."""
@@ -37,7 +37,9 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import cKDTree
 
-from cgms import mfc_metrics, mfc_model, mfc_run, mfc_sph, mfc_tissue, run
+from cgms.mfc import (metrics as mfc_metrics, model as mfc_model, run as mfc_run, sph as mfc_sph,
+                      tissue as mfc_tissue)
+from cgms import run
 
 STEPS = 2000          # SPH steps per chunk (4 us at dt = 2 ns)
 STAGE_STEPS = 4000    # SPH steps per ramp stage

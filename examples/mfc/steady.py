@@ -8,7 +8,7 @@
   shift-invert Lanczos, the rigid motions of the free tissue removed): all positive means
   a minimum, and the smallest says how flat its valley is (N/m; the bonds: 422 N/m);
 - every wall particle kicked at random by up to ``kick`` (m) and solved again as a level is
-  (:func:`cgms.mfc_run.relax`: conjugate gradients, then Newton): how far the cell
+  (:func:`cgms.mfc.run.relax`: conjugate gradients, then Newton): how far the cell
   centroids land from where they were (RMSD after the best rigid motion, largest). A
   wrinkled wall has many minima close together; this says how closely the model itself
   fixes the centroids.
@@ -25,7 +25,9 @@ import time
 import numpy as np
 import scipy.sparse.linalg as spla
 
-from cgms import mfc_metrics, mfc_model, mfc_newton, mfc_run, run, superpose
+from cgms.mfc import (metrics as mfc_metrics, model as mfc_model, newton as mfc_newton,
+                      run as mfc_run)
+from cgms import run, superpose
 from cgms.solve import colour, without_rigid_motion
 
 

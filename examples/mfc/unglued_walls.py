@@ -19,7 +19,8 @@ import time
 
 import numpy as np
 
-from cgms import mfc_metrics, mfc_model, mfc_run, morphology, run
+from cgms.mfc import metrics as mfc_metrics, model as mfc_model, run as mfc_run
+from cgms import morphology, run
 
 
 def edge(xy):

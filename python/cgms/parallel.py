@@ -46,7 +46,7 @@ class Stopped(Exception):
 class World:
     """The processes of one command. ``comm``: mpi4py's COMM_WORLD, or None (one process:
     everything runs as it does without mpirun). ``failure(err)``: the exit status and
-    one-line message of an exception (cli.failure)."""
+    one-line message of an exception (cgms.cli.errors.failure)."""
 
     def __init__(self, comm=None, failure=None):
         self.comm, self.failure = comm, failure

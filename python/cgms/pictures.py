@@ -16,7 +16,9 @@ them, as a micrograph shows a tissue:
 - :func:`snapshots`: one figure of a tissue at every moisture level (the paper's Figs 3
   and 6), cells coloured by a field on one scale, every panel at the same magnification;
 - :func:`curves_all`: A/A0, EL/EL0 and P/P0 against the moisture reached for several
-  tissues together (the paper's Fig. 5);
+  tissues together (the paper's Fig. 5), or for one;
+- :func:`sensitivity`: the morphology against the factor on each parameter (the paper's
+  Figs 11, 13 and 15);
 - :func:`study_pictures`: all of the above for a results folder of ``python3 -m cgms main``
   or ``study``.
 
@@ -183,7 +185,8 @@ def snapshots(states, path, field="pressure", cells="voronoi", cmap=None, title=
     """One figure with a panel per state, like the paper's Figs 3 and 6. ``states``: a list
     of dicts with ``title``, ``xy`` and ``values`` (SI units of ``field``, one per bead) and,
     for hexagons, ``side``; the state with the largest ``dryness`` (or the first) is the
-    fresh one, whose outline is drawn over the others. Every panel has the same scale."""
+    fresh one, whose outline is drawn over the others, unless a state names its own fresh
+    positions (``fresh_xy``; None: no fresh outline). Every panel has the same scale."""
     label, factor = FIELDS.get(field, (field, 1.0))
     cmap = cmap or ("YlOrRd" if field == "shrinkage" else "viridis")
     values = [np.asarray(s["values"], float) * factor for s in states]
@@ -198,7 +201,7 @@ def snapshots(states, path, field="pressure", cells="voronoi", cmap=None, title=
                         wspace=0.25)
     for k, (ax, state, v) in enumerate(zip(axes[0], states, values)):
         coll = draw_tissue(ax, state["xy"], v, cells, state.get("side"), norm, cmap,
-                           fresh_xy=None if k == fresh else states[fresh]["xy"])
+                           fresh_xy=fresh_outline(states, k, fresh))
         cx, cy = _centroid(np.asarray(state["xy"], dtype=float)[:, :2]) * 1e3
         ax.set_xlim(cx - half, cx + half)
         ax.set_ylim(cy - half, cy + half)
@@ -207,11 +210,20 @@ def snapshots(states, path, field="pressure", cells="voronoi", cmap=None, title=
     axes[0][0].set_ylabel("y (mm)")
     fig.colorbar(coll, cax=fig.add_axes([1 - 1.0 / width, 0.18, 0.12 / width, 0.58]),
                  label=label)
-    key = "solid line: outline through the peripheral bead centres; dashed: the fresh one"
+    key = "solid line: outline through the peripheral bead centres" + \
+        ("; dashed: the fresh one" if any(fresh_outline(states, k, fresh) is not None
+                                          for k in range(len(states))) else "")
     fig.suptitle(f"{title}\n{key}" if title else key, fontsize=9)
     fig.savefig(path, dpi=130)
     plt.close(fig)
     return path
+
+
+def fresh_outline(states, k, fresh):
+    """The fresh positions whose outline :func:`snapshots` draws over state ``k``."""
+    if "fresh_xy" in states[k]:
+        return states[k]["fresh_xy"]
+    return None if k == fresh else states[fresh]["xy"]
 
 
 def curves_all(tables, path, title=""):
@@ -294,3 +306,24 @@ def study_pictures(folder, field="pressure", cells="voronoi"):
     by_size = sorted(tables.items(), key=lambda item: item[1][0]["beads"])
     written.append(curves_all(dict(by_size), folder / "curves-all.png"))
     return written
+
+
+def sensitivity(rows, path, level=0.3):
+    """A/A0, P/P0, EL/EL0 at one dryness against the factor on each parameter (like the
+    paper's Figs 11, 13 and 15, at their driest level)."""
+    params = list(dict.fromkeys(r["parameter"] for r in rows))
+    fig, axes = plt.subplots(3, len(params), figsize=(3.6 * len(params), 7.5),
+                             constrained_layout=True, squeeze=False)
+    for j, param in enumerate(params):
+        sel = [r for r in rows if r["parameter"] == param and r.get("s") == level]
+        labels = [r["factor"] for r in sel]
+        for i, key in enumerate(("A/A0", "P/P0", "EL/EL0")):
+            ax = axes[i][j]
+            ax.plot(range(len(sel)), [r[key] for r in sel], "o-")
+            ax.set_xticks(range(len(sel)), labels)
+            ax.set_ylabel(key)
+            ax.grid(alpha=0.3)
+            if i == 0:
+                ax.set_title(f"{param} x factor, s = {level:g}")
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

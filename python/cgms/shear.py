@@ -29,7 +29,8 @@ import math
 import numpy as np
 
 from . import material as material_file
-from . import mfc_metrics, mfc_run, mfc_tissue, positions, run, study, tissue
+from .mfc import metrics as mfc_metrics, run as mfc_run, tissue as mfc_tissue
+from . import positions, run, study, tissue
 
 #: shear strains of the measurement (the brief: 0.5, 1, 2 %), and uniaxial compressions
 GAMMAS = (0.005, 0.01, 0.02)
@@ -179,7 +180,7 @@ def _ids(values):
 
 def mfc(centres, row, p, s, folder, solver=None, **kwargs):
     """The shear and uniaxial test of the fine model (fast variant, the lamella set in the
-    relaxed fresh block as in the reference, ``cgms.mfc_study``) at dryness ``s``: the
+    relaxed fresh block as in the reference, ``cgms.mfc.study``) at dryness ``s``: the
     fresh block relaxed, glued, dried along the ramp to ``s``, then :func:`load`. Returns
     the :func:`load` result with the free state's width, row gap and relax reports."""
     from pathlib import Path

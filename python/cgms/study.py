@@ -37,7 +37,7 @@ FALLBACK_FOLDER = "dynamics"
 FALLBACKS = ("dynamics",)
 #: the values of :func:`sweep`'s ``start``: every level from the built tissue (the paper's
 #: moisture-domain approach), or each from the previous level's steady state (a drying
-#: ramp, as the MFC references are made: cgms.mfc_run.ramp)
+#: ramp, as the MFC references are made: cgms.mfc.run.ramp)
 STARTS = ("built", "previous")
 
 
@@ -63,7 +63,7 @@ def level_name(s):
     return f"s{short}" if float(short) == s else f"s{float(s)!r}"
 
 
-def _lammps_reason(err, log):
+def lammps_reason(err, log):
     """LAMMPS's whole ERROR line from the log (the Python module cuts it at about 100
     characters), else the exception's text."""
     try:
@@ -112,7 +112,7 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
     except Exception as err:
         log = out / f"log.{name}.lammps"
         lmp.close()
-        raise LammpsError(dryness, _lammps_reason(err, log), log) from err
+        raise LammpsError(dryness, lammps_reason(err, log), log) from err
     lmp.close()
     if folded:
         raise LammpsError(dryness, folded, out / f"log.{name}.lammps")

@@ -20,7 +20,7 @@ horizontally (as :func:`hex_rectangle` always did); ``rows_along="y"`` turns the
 that gives the paper's tissues their counts with the paper's ``W x H`` read as width x
 height and its elongation (vertical / horizontal axis) as major / minor axis.
 
-Command line: ``python3 -m cgms.tissue --help`` (:func:`cgms.cli.tissue_main`).
+Command line: ``python3 -m cgms.tissue --help`` (:func:`cgms.cli.tissue.tissue_main`).
 """
 
 import math
@@ -28,9 +28,23 @@ import sys
 
 import numpy as np
 
+from . import morphology
 from .positions import write_data  # noqa: F401 - the data-file writer, kept here for callers
 
 ROW_PITCH = math.sqrt(3) / 2   # row distance / bead spacing
+#: the paper's microscale tissues (width x height, mm) and the 86-bead calibration tissue
+MICROSCALE = {
+    "calibration": (1.25, 1.5),
+    "1.5x1.5": (1.5, 1.5),
+    "1.5x2.0": (1.5, 2.0),
+    "1.5x2.5": (1.5, 2.5),
+    "2.0x2.0": (2.0, 2.0),
+    "2.0x2.5": (2.0, 2.5),
+}
+#: the fewest beads a tissue has (its outline needs three)
+MIN_BEADS = 3
+#: a tissue read from a file may have its median bead spacing this far from x_ref
+SPACING_RANGE = (0.5, 2.0)
 _TOL = 1e-9                    # relative tolerance (of the spacing) for points on an outline
 
 
@@ -411,6 +425,46 @@ def clipped_mean(cv, dist="lognormal", lower=0.5, upper=None, points=20001):
     return float(np.clip(d, lower, upper).mean())
 
 
+# --------------------------------------------------------------------------- layouts read
+
+def check_layout(ids, xy, x_ref):
+    """ValueError for bead positions no tissue has: non-finite, two beads at one place, not
+    in metres (the median spacing far from x_ref), all in a row, or in pieces that no chain
+    of neighbours links (LAMMPS would stop on an isolated bead, or on no area at the end).
+    ``ids`` name the beads in the messages; ``x_ref``: the material's cell spacing (m)."""
+    bad = np.flatnonzero(~np.isfinite(xy).all(axis=1))
+    if len(bad):
+        raise ValueError(f"bead id {ids[bad[0]]} has a non-finite position "
+                         f"({len(bad)} bead(s) in all)")
+    if len(xy) < MIN_BEADS:
+        raise ValueError(f"{len(xy)} bead(s); a tissue needs at least {MIN_BEADS}")
+    order = np.lexsort((xy[:, 1], xy[:, 0]))
+    same = np.flatnonzero((np.diff(xy[order], axis=0) == 0).all(axis=1))
+    if len(same):
+        a, b = ids[order[same[0]]], ids[order[same[0] + 1]]
+        raise ValueError(f"beads {a} and {b} are at the same position; remove the "
+                         "duplicate")
+    gap = morphology.spacing(xy)
+    ratio = gap / x_ref
+    if not SPACING_RANGE[0] < ratio < SPACING_RANGE[1]:
+        unit = next((f" (these look like {name})" for name, scale in
+                     (("micrometres", 1e6), ("millimetres", 1e3))
+                     if SPACING_RANGE[0] < ratio / scale < SPACING_RANGE[1]), "")
+        raise ValueError(f"neighbouring beads are {gap:.4g} m apart (median), "
+                         f"{ratio:.3g} times the material's cell spacing x_ref = "
+                         f"{x_ref:.4g} m: positions must be cell centres in "
+                         f"metres{unit}")
+    label = morphology.pieces(xy)
+    if label.max() > 0:
+        away = ids[label > 0]
+        raise ValueError(
+            f"the beads form {label.max() + 1} pieces: bead id(s) "
+            f"{', '.join(str(i) for i in away[:5])}{' ...' if len(away) > 5 else ''} are "
+            f"more than {morphology.MAX_EDGE_FACTOR:g} x the median spacing from the largest "
+            "piece; a tissue is one piece of neighbouring cells")
+    morphology.outline(xy)     # ValueError for beads all in a row
+
+
 if __name__ == "__main__":   # python3 -m cgms.tissue: the builder's command line
-    from .cli import tissue_main
+    from .cli.tissue import tissue_main
     sys.exit(tissue_main())

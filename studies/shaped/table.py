@@ -27,7 +27,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python"))
 from cgms import material, morphology, shaped, shaped_tensor, superpose, tissue  # noqa: E402
-from cgms.cli import MICROSCALE  # noqa: E402
+from cgms.tissue import MICROSCALE  # noqa: E402
 
 LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3, 0.2, 0.1)
 TISSUES = ("calibration", "1.5x1.5", "1.5x2.0", "1.5x2.5", "2.0x2.0", "2.0x2.5",

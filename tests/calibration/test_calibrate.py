@@ -1,8 +1,8 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""Calibration (cgms.calibrate): eqn (2), matching references to beads, recovery of known
-parameters from CGMS's own steady states, resuming, the fitted material file."""
+"""Calibration (cgms.calibration.calibrate): eqn (2), matching references to beads,
+recovery of known parameters from CGMS's own steady states, resuming, the fitted material file."""
 
 import json
 import math
@@ -11,8 +11,8 @@ import time
 import numpy as np
 import pytest
 
-from cgms import (calibrate, cli, fitparams, material, morphology, pool, positions, study,
-                  superpose, tissue)
+from cgms.calibration import calibrate, fitparams
+from cgms import cli, material, morphology, pool, positions, study, superpose, tissue
 from cgmstest import APPLE, MAT
 
 # the reference parameters of the recovery test: factors on apple's values

@@ -3,8 +3,8 @@
 # see the LICENSE file in the top-level directory.
 """examples/calibration/fit.py --hold: a held parameter is never handed to the minimiser
 (neither as fitted nor with a bound), so it keeps the start material's value; a name that
-is not one of the paper's four is refused in one line. cgms.calibrate itself is replaced by
-a recorder: what is checked is the script's choice of parameters, not the fit."""
+is not one of the paper's four is refused in one line. cgms.calibration.calibrate itself is
+replaced by a recorder: what is checked is the script's choice of parameters, not the fit."""
 
 import math
 import sys

@@ -7,7 +7,8 @@ steady states and written into the fitted material file."""
 
 import pytest
 
-from cgms import calibrate, fitparams, material, study, tissue
+from cgms.calibration import calibrate, fitparams
+from cgms import material, study, tissue
 from cgmstest import APPLE, MAT, require_lammps
 
 LEVELS = (1.0, 0.3)

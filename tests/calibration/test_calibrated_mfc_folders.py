@@ -4,8 +4,8 @@
 """The MFC study gives every tissue its own results folder (the calibration against the MFC
 reads them by tissue name: doc/calibration.md)."""
 
-from cgms.cli import MICROSCALE
-from cgms.mfc_cli import SINGLE, folder_name
+from cgms.tissue import MICROSCALE
+from cgms.cli.mfc import SINGLE, folder_name
 
 
 def test_every_named_tissue_has_its_own_folder():

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import reference
-from cgms import mfc_model, model, shear
+from cgms.mfc import model as mfc_model
+from cgms import model, shear
 from cgmstest import APPLE, CUTOFF, MAT, require_lammps
 
 S = 1.0

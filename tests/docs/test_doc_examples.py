@@ -5,8 +5,8 @@
 
 The examples are read from the files themselves, so an edited example is what is tested:
 the Examples block of every style page (doc/*.rst, ``code-block:: LAMMPS``) and the fenced
-blocks of README.md (LAMMPS inputs, Python, shell), and the README's inline
-``python3 -m cgms ...`` commands.
+blocks of README.md (LAMMPS inputs, Python, shell), the README's inline
+``python3 -m cgms ...`` commands, and the example of doc/python.md.
 
 - LAMMPS blocks run in the plugin's LAMMPS. A style page's block is a list of variants
   (paragraphs; lines that define the same ID again): each paragraph runs in a fresh
@@ -231,6 +231,17 @@ def test_readme_python_examples_run(folder):
     found = {}
     exec(compile(trajectory, "README.md (frame by frame)", "exec"), found)
     assert len(found["shape"]["step"]) > 1
+
+
+@pytest.mark.lammps
+def test_python_guide_example_runs(folder):
+    """doc/python.md's example, as written: the public face of cgms from a material file to
+    a dried slice; it prints one line per result."""
+    (example,) = [text for lang, text in fenced_blocks(DOC / "python.md") if lang == "python"]
+    exec(compile(example, "doc/python.md", "exec"), {})
+    assert (folder / "relaxed" / "tissue.s0.3.dump").exists()
+    assert sorted(p.name for p in (folder / "swept").glob("level.s*.json")) == \
+        ["level.s0.3.json", "level.s1.json"]
 
 
 def test_readme_shell_blocks_are_commands_that_exist():

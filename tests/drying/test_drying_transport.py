@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""Moisture transport (cgms.transport) against Crank's analytic solutions, water balance,
+"""Moisture transport (cgms.drying.transport) against Crank's analytic solutions, water balance,
 and the apple surface law (doc/drying.md). No LAMMPS: the mechanics is frozen here."""
 
 import math
@@ -13,7 +13,8 @@ from scipy.ndimage import gaussian_filter1d
 
 import crank
 from cgmstest import MAT
-from cgms import morphology, tissue, transport
+from cgms import morphology, tissue
+from cgms.drying import transport
 
 RHO_S = 120.0   # dry solid per tissue volume, kg/m^3 (any value: it cancels)
 D = 1e-9

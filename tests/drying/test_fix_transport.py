@@ -2,7 +2,7 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """fix cgms/transport (time-domain drying inside LAMMPS) against its Python oracle
-(cgms.transport stepped as cgms.drying.dry steps it), against Crank's slab series, and for
+(cgms.drying.transport stepped as cgms.drying.dry steps it), against Crank's slab series, and for
 water balance, MPI, restart and bad input (doc/fix_cgms_transport.rst). The mechanics is
 frozen here (pair_style zero, no integrator): the beads keep their positions."""
 
@@ -13,7 +13,8 @@ import pytest
 
 import crank
 from cgmstest import PLUGIN, ROOT, read_dump, run_lmp, slow
-from cgms import tissue, transport
+from cgms import tissue
+from cgms.drying import transport
 
 PARAMS_FILE = ROOT / "potentials" / "apple-drying.params"
 A = 1.5e-4            # lattice spacing (m)
@@ -70,8 +71,8 @@ def lammps(folder, xy, fix_args, steps, nprocs=1, **kw):
 def oracle(xy, steps, dt, layers, faces=2, outline=True, inplane=True, heat=False,
            temperature=70.0, humidity=0.1, velocity=1.5, plate=0.04, thickness=2e-3,
            linear=None, adapt=None, params=None):
-    """cgms.transport stepped as cgms.drying.dry steps it (shape frozen, fixed or adaptive
-    step), on the geometry of cgms.transport.bead_geometry (its outline is the one the fix
+    """cgms.drying.transport stepped as cgms.drying.dry steps it (shape frozen, fixed or adaptive
+    step), on the geometry of cgms.drying.transport.bead_geometry (its outline is the one the fix
     constructs). Returns the node moisture (n, layers), the product temperature, the water
     out through faces and outline, and the initial water."""
     p = params or read_params()
@@ -138,7 +139,7 @@ def switches(case):
 
 @pytest.mark.parametrize("name", list(CASES))
 def test_matches_python_oracle(tmp_path, name):
-    """Per-node moisture, water out and balance of the fix equal cgms.transport on the same
+    """Per-node moisture, water out and balance of the fix equal cgms.drying.transport on the same
     frozen jittered tissue and the same 25 steps (adaptive), to 1e-10 (measured: 4e-13 at
     most), half way through the drying, with the field far from uniform."""
     case = CASES[name]
@@ -163,7 +164,7 @@ def test_matches_python_oracle(tmp_path, name):
 @pytest.mark.parametrize("b", [3.0, -2.0])
 def test_moisture_dependent_d_matches_python(tmp_path, b):
     """D varying with moisture (D_moisture b: D ~ exp(b (X/X0 - 1)), the face D the mean of
-    the two nodes' D): the fix's nodes, outflows and water balance equal cgms.transport's
+    the two nodes' D): the fix's nodes, outflows and water balance equal cgms.drying.transport's
     (whose steady flow matches the Kirchhoff solution, test_drying_transport.py) to 1e-10,
     with both faces and the outline in air (measured: nodes 1.7e-13 for b = 3, 2.8e-14
     for b = -2; outflows 3e-14 of the initial water; balance 1.2e-15)."""

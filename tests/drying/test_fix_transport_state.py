@@ -19,7 +19,8 @@ import numpy as np
 import pytest
 
 from cgmstest import PLUGIN, read_dump, run_lmp
-from cgms import tissue, transport
+from cgms import tissue
+from cgms.drying import transport
 from test_fix_transport import A, CUT, PARAMS_FILE, jittered, read_params
 
 LAYERS = 4
@@ -218,7 +219,8 @@ def test_deleted_beads_leave_the_balance(tmp_path):
     """delete_atoms: the water the deleted beads held leaves the balance as output 15, the
     tissue's X/X0 is that of the beads that remain, and the balance keeps closing. The
     expectations come from the per-bead means written before the deletion and the dry
-    solid of each column (solids density x area x thickness, cgms.transport.bead_geometry)."""
+    solid of each column (solids density x area x thickness,
+    cgms.drying.transport.bead_geometry)."""
     xy = jittered()
     gone = [1, 2, 3, 9]
     folder = tmp_path
@@ -306,7 +308,7 @@ def test_long_fixed_step_is_refused_naming_dt(tmp_path):
 def test_adaptive_step_keeps_moisture_non_negative(tmp_path):
     """With adapt, a step that would drain a node is halved: over 40 steps every node stays
     at or above zero, the tissue ends at the equilibrium moisture of the air (GAB at 10 %
-    RH and 70 C, from cgms.transport), and the water balance closes."""
+    RH and 70 C, from cgms.drying.transport), and the water balance closes."""
     p = read_params()
     proc = run(tmp_path, head() + ["read_data t.data"] + forces()
                + [f"fix tr all cgms/transport {PARAMS_FILE} dt 600 adapt 1000 600 heat no",

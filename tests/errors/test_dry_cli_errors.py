@@ -204,7 +204,7 @@ def test_short_run_lists_only_written_files(tmp_path, capsys):
 def test_interrupted_run_keeps_its_results(tmp_path, capsys, monkeypatch):
     """Ctrl-C during the drying: the rows so far are written, and the message speaks of
     what dry has (no --resume, which only study and main have)."""
-    from cgms import transport
+    from cgms.drying import transport
 
     step, calls = transport.step, []
 

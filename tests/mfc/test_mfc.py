@@ -18,7 +18,9 @@ from scipy.optimize import brentq
 
 from cgmstest import PLUGIN, ROOT, lammps_env, read_dump, run_lmp
 
-from cgms import mfc_metrics, mfc_model, mfc_run, mfc_tissue, run, tissue
+from cgms.mfc import (metrics as mfc_metrics, model as mfc_model, run as mfc_run,
+                      tissue as mfc_tissue)
+from cgms import run, tissue
 
 P = mfc_model.parameters()
 N = P["n_wall"]
@@ -40,7 +42,7 @@ def open_cells(folder, centres, s=1.0, jitter=0.0, seed=0, extra=()):
 
 def eos(area, fluid_area, turgor):
     """CGMS eqn (4) with rho / rho0 = fluid area / area (written here, independent of
-    cgms.mfc_model)."""
+    cgms.mfc.model)."""
     return turgor + 2.0e7 * ((fluid_area / area) ** 7 - 1)
 
 
@@ -87,7 +89,7 @@ def test_builder_cells_sit_on_the_cgms_beads():
 
 
 def test_builder_cell_counts_and_bad_centres():
-    from cgms.cli import MICROSCALE
+    from cgms.tissue import MICROSCALE
     counts = [len(tissue.rectangle(w * 1e-3, h * 1e-3, P["x_ref"])) for w, h in MICROSCALE.values()]
     assert counts == [86, 105, 149, 182, 203, 248]
     with pytest.raises(ValueError, match="closer than the cell spacing"):
@@ -421,10 +423,10 @@ def test_newton_after_a_spent_budget_counts_its_calls(tmp_path, monkeypatch, fai
 
 @pytest.mark.lammps
 def test_newton_stiffness_matches_the_force_differences_column_by_column(tmp_path):
-    """cgms.mfc_newton builds the stiffness from few force evaluations (particles of one
+    """cgms.mfc.newton builds the stiffness from few force evaluations (particles of one
     colour displaced together, the cells' fluid stiffness taken out as a rank-one term);
     against the plain finite differences, one particle at a time, on two dried cells."""
-    from cgms import mfc_newton
+    from cgms.mfc import newton as mfc_newton
     from cgms.solve import colour
     lmp = open_cells(tmp_path, [[0.0, 0.0], [P["x_ref"], 0.0]])
     try:
@@ -462,7 +464,7 @@ def test_newton_finishes_a_dried_cluster_to_the_force_test(tmp_path):
     """From the minimiser's state two chunks into s = 0.6 (7 cells), Newton's method
     reaches a largest force of 1e-12 N in a few steps, at a lower energy; the minimiser
     alone is still at 1e-7 N there (doc/mfc.md, "Newton")."""
-    from cgms import mfc_newton
+    from cgms.mfc import newton as mfc_newton
     lmp = open_cells(tmp_path, [[0.0, 0.0]] + [
         [P["x_ref"] * math.cos(a), P["x_ref"] * math.sin(a)]
         for a in np.arange(6) * math.pi / 3 + math.pi / 2])
@@ -481,10 +483,10 @@ def test_newton_finishes_a_dried_cluster_to_the_force_test(tmp_path):
 def fast_then_sph(folder, s, steps):
     """The fast variant's steady state of one cell at level ``s``, then the SPH model
     started there (the ring filled with fluid at rest at the fast variant's pressure,
-    cgms.mfc_sph.write_state) and run
+    cgms.mfc.sph.write_state) and run
     ``steps`` steps of 2 ns. Returns the fast walls, the SPH walls, the SPH fluid's
     pressures (Pa) and write_state's report."""
-    from cgms import mfc_sph
+    from cgms.mfc import sph as mfc_sph
     lmp = open_cells(folder, [[0.0, 0.0]])
     try:
         report = mfc_run.ramp(lmp, P, None, s, ftol=1e-11)
@@ -534,7 +536,7 @@ def test_sph_holds_the_dried_steady_state_of_the_fast_variant(tmp_path):
     # the fluid is at the fast variant's small suction (about -1 kPa), quiet
     assert abs(pressure.mean()) < 5e3 and pressure.std() < 5e3
     # its amount: the lattice points (spacing h) inside the ring and at least the margin m
-    # from its polyline (cgms.mfc_sph.fill), h^2 each, count the region whose area is
+    # from its polyline (cgms.mfc.sph.fill), h^2 each, count the region whose area is
     # A - m L + pi m^2 (Steiner's formula for the inner parallel set: exact while that set's
     # boundary does not cross itself; here within 5e-4 of 10x and 20x finer lattices).
     # A lattice count misses a region's area by one error per boundary cell, spread evenly
@@ -720,7 +722,7 @@ def test_study_resume_names_a_damaged_record_and_keeps_close_levels_apart(tmp_pa
     """A level record cut short (the run killed while writing it) stops the resume with a
     message naming the file, not a JSON traceback; levels that %g would round alike get
     files of their own. Both checks read only records: no LAMMPS run."""
-    from cgms import mfc_study
+    from cgms.mfc import study as mfc_study
     folder = tmp_path / "single"
     folder.mkdir()
     (folder / "level.s1.json").write_text('{"s": 1.0, "cell_area/A0"')
@@ -864,7 +866,7 @@ def test_lamella_holds_a_loaded_pair_and_the_lj_alone_gives_way(tmp_path_factory
 
 @pytest.mark.lammps
 def test_lamella_set_in_the_fresh_tissue_is_at_rest_there_and_kept_on_resume(tmp_path):
-    from cgms import mfc_study
+    from cgms.mfc import study as mfc_study
     p = mfc_model.parameters(lamella="fresh")
     mfc_study.dry(SEVEN, p, tmp_path, (1.0,), say=lambda line: None)
     assert not (tmp_path / "lamella.data").exists()   # set only when a dried level needs it

@@ -15,7 +15,8 @@ import pytest
 
 from cgmstest import PLUGIN, run_lmp
 
-from cgms import mfc_metrics, mfc_model, mfc_run, mfc_sph, run
+from cgms.mfc import metrics as mfc_metrics, model as mfc_model, run as mfc_run, sph as mfc_sph
+from cgms import run
 
 pytestmark = pytest.mark.lammps
 
@@ -376,7 +377,7 @@ def dried_cell(tmp_path, s, path="density", stage_steps=4000, hold=8000, **fluid
 
 def fast_cell(tmp_path, s):
     """The fast variant's steady state of one cell at level s (mfc_metrics.cells)."""
-    from cgms import mfc_tissue
+    from cgms.mfc import tissue as mfc_tissue
     mfc_tissue.write_data(tmp_path / "walls.data", [[0.0, 0.0]], P, overwrite=True)
     lmp = run.open_lammps()
     try:

@@ -257,7 +257,7 @@ def test_cell_shape_energy_is_a_potential_in_dynamics(tmp_path):
 
 def test_newton_step_acceptance():
     """cgms.solve.step_accepted, the rule both Newton solvers (cgms.solve and
-    cgms.mfc_newton) take a step by: a quadratic energy E = |x|^2 / 2 (force -x) from
+    cgms.mfc.newton) take a step by: a quadratic energy E = |x|^2 / 2 (force -x) from
     x = (1, 1), E = 1. Armijo with c = 1e-4: a step d is taken if E(x + d) <= E - 1e-4 f.d."""
     from cgms.solve import step_accepted
     x = np.array([1.0, 1.0])

@@ -83,7 +83,7 @@ def test_quasistatic_state_is_a_steady_state_of_the_dynamics(small_tissue, tmp_p
 
 
 def test_sensitivity_settings_scale_the_named_parameter():
-    from cgms import sensitivity
+    from cgms.calibration import sensitivity
     mat = {"k_T": 1e-10, "k_PA": 2.0, "beta_a": 1.0311, "beta_b": 0.1088}
     assert sensitivity.setting_args(mat, "k_T", 10.0) == ("", "k_T 1e-09")
     assert sensitivity.setting_args(mat, "beta", None) == ("periphery no", "")

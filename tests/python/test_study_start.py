@@ -177,7 +177,8 @@ def test_dynamics_ramp_starts_with_the_fluid_in_osmotic_balance(small_tissue, tm
 def test_calibration_runner_ramp_matches_the_study_ramp(small_tissue, tmp_path):
     """cgms.pool's ramp (fit.py --start previous): the levels of one parameter vector in
     sequence, each from the previous one's steady state; the same states as the study's."""
-    from cgms import calibrate, pool
+    from cgms.calibration import calibrate
+    from cgms import pool
     levels = (1.0, 0.6, 0.4)
     swept = ramp(small_tissue, tmp_path / "study", levels=levels)
     (tmp_path / "fit").mkdir()
@@ -214,7 +215,7 @@ def test_fit_script_passes_the_ramp_and_lifts_the_lj_slope_bound(tmp_path, monke
     """examples/calibration/fit.py --start previous: every fit is asked for a ramp, and
     lj_slope may go where the LJ radius at the driest level is half of r0, (1 - 0.5) /
     -ln 0.3 = 0.4153, instead of where the cutoff still holds the built lattice, (1 -
-    1.01/1.35) / -ln 0.3 = 0.2092. cgms.calibrate is replaced by a recorder."""
+    1.01/1.35) / -ln 0.3 = 0.2092. cgms.calibration.calibrate is replaced by a recorder."""
     import math
     import sys
     from cgmstest import ROOT

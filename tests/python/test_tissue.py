@@ -335,30 +335,31 @@ def test_diameters_section_in_lammps(tmp_path):
 
 def test_cli_rect_disc_polygon(tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    assert cli.tissue_main(["rect", "1.5", "2.0"]) == 0
+    assert cli.tissue.tissue_main(["rect", "1.5", "2.0"]) == 0
     assert capsys.readouterr().out.startswith("149 beads -> tissue.data")
     assert "149 atoms" in (tmp_path / "tissue.data").read_text()
     before = (tmp_path / "tissue.data").read_text()
-    assert cli.tissue_main(["rect", "1.5", "1.5"]) == 2  # exists: not replaced
+    assert cli.tissue.tissue_main(["rect", "1.5", "1.5"]) == 2  # exists: not replaced
     assert "--force" in capsys.readouterr().err
     assert (tmp_path / "tissue.data").read_text() == before
-    assert cli.tissue_main(["rect", "1.5", "1.5", "--force", "--cv", "0.1", "--seed", "1"]) == 0
+    assert cli.tissue.tissue_main(["rect", "1.5", "1.5", "--force", "--cv", "0.1", "--seed",
+                                   "1"]) == 0
     assert capsys.readouterr().out.startswith("105 beads")
     text = (tmp_path / "tissue.data").read_text()
     assert "105 atoms" in text and "\nDiameters\n" in text
-    assert cli.tissue_main(["disc", "1", "--out", "disc.data"]) == 0
+    assert cli.tissue.tissue_main(["disc", "1", "--out", "disc.data"]) == 0
     assert capsys.readouterr().out.startswith(f"{len(tissue.disc(1e-3, XREF))} beads")
     (tmp_path / "tri.txt").write_text("# metres\n0 0\n1.5e-3 0\n\n0 1.5e-3\n")
-    assert cli.tissue_main(["polygon", "tri.txt", "--out", "tri.data"]) == 0
+    assert cli.tissue.tissue_main(["polygon", "tri.txt", "--out", "tri.data"]) == 0
     n = len(tissue.polygon([[0, 0], [1.5e-3, 0], [0, 1.5e-3]], XREF))
     assert capsys.readouterr().out.startswith(f"{n} beads")
     (tmp_path / "bow.txt").write_text("0 0\n1e-3 1e-3\n1e-3 0\n0 1e-3\n")
-    assert cli.tissue_main(["polygon", "bow.txt", "--out", "bow.data"]) == 2
+    assert cli.tissue.tissue_main(["polygon", "bow.txt", "--out", "bow.data"]) == 2
     assert "self-intersecting" in capsys.readouterr().err
     (tmp_path / "mm.txt").write_text("0 0\n1500 0\n0 1500\n")  # millimetres by mistake
-    assert cli.tissue_main(["polygon", "mm.txt", "--out", "mm.data"]) == 2
+    assert cli.tissue.tissue_main(["polygon", "mm.txt", "--out", "mm.data"]) == 2
     assert "metres" in capsys.readouterr().err
-    assert cli.tissue_main(["rect", "0", "1", "--out", "zero.data"]) == 2
+    assert cli.tissue.tissue_main(["rect", "0", "1", "--out", "zero.data"]) == 2
     assert not any((tmp_path / f).exists() for f in ("bow.data", "mm.data", "zero.data"))
 
 

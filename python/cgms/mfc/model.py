@@ -13,7 +13,7 @@ below are the MFC's own, each with its source or the reason it was chosen (doc/m
 
 import math
 
-from . import material, model
+from .. import material, model
 
 #: the MFC's own parameters (SI units)
 MFC = dict(

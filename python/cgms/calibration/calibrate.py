@@ -24,7 +24,7 @@ parameters minimise it. Here:
   (``align="translation"``, default) or translation and rotation (``"rigid"``); the RMSD
   is then the minimum of eqn (2) over those motions (``"none"``: eqn (2) as written;
   :mod:`cgms.superpose`);
-- **parameters** (``parameters=``): see :mod:`cgms.fitparams`;
+- **parameters** (``parameters=``): see :mod:`cgms.calibration.fitparams`;
 - **minimiser**: eqn (2) is a root mean square of residuals, so the fit minimises the mean
   over levels of RMSD^2 as a bounded nonlinear least-squares problem
   (:func:`scipy.optimize.least_squares`, trust-region reflective) with a forward-difference
@@ -46,9 +46,10 @@ from pathlib import Path
 
 import numpy as np
 
-from . import fitparams, folders, material as material_mod, morphology, positions
-from .pool import CACHE, Runner  # noqa: F401 - CACHE: the cache file name, for callers
-from .superpose import ALIGN, align
+from . import fitparams
+from .. import folders, material as material_mod, morphology, positions
+from ..pool import CACHE, Runner  # noqa: F401 - CACHE: the cache file name, for callers
+from ..superpose import ALIGN, align
 
 #: forward-difference step in ln(value): large against the FIRE noise of the steady state
 #: (about 2e-7 x_ref on positions), small against the curvature

@@ -7,7 +7,7 @@ steady state of the same setting."""
 
 from pathlib import Path
 
-from . import material, study
+from .. import material, morphology, study
 
 # factor sets of the paper's Figs 10-15; None for beta means "without periphery treatment"
 FACTORS = {
@@ -61,3 +61,28 @@ def run(data, material_file, out, levels=(1.0, 0.3), method="quasistatic", progr
                       f"P/P0 {last['P/P0']:.4f} EL/EL0 {last['EL/EL0']:.4f} "
                       f"({last['method']})", flush=True)
     return rows
+
+
+def snapshots(out, rows, level=0.3):
+    """Snapshots like the paper's Figs 10, 12 and 14, ``out/snapshots-<parameter>.png``:
+    the tissue of every setting at ``level``, its cells coloured by the local shrinkage
+    from the fresh state of the same setting (dashed: that fresh outline). ``rows``: the
+    finished rows of :func:`run`, whose steady states are in ``out``."""
+    from .. import pictures    # matplotlib only when pictures are drawn
+
+    for parameter in FACTORS:
+        states = []
+        setting = [r for r in rows if r["parameter"] == parameter]
+        for r in (r for r in setting if r["s"] == level):
+            def final(s):
+                row = next(q for q in setting if q["factor"] == r["factor"] and q["s"] == s)
+                folder = Path(out) / f"{parameter}-{r['factor']}"
+                folder = folder / "dynamics" if row["method"] == "dynamics" else folder
+                return morphology.read_dump(folder / f"tissue.{study.level_name(s)}.dump")[-1]
+            dried, fresh = final(level), final(1.0)
+            states.append(dict(title=f"{parameter} x {r['factor']}", xy=dried["xy"],
+                               values=morphology.shrinkage(dried["xy"], fresh["xy"]),
+                               fresh_xy=fresh["xy"]))
+        if states:
+            pictures.snapshots(states, Path(out) / f"snapshots-{parameter}.png", "shrinkage",
+                               title=f"s = {level:g}")

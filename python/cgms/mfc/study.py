@@ -26,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import folders, mfc_metrics, mfc_run, mfc_tissue, morphology, positions, run, study
-from .study import level_name
+from .. import folders, morphology, positions, run, study
+from . import metrics as mfc_metrics, run as mfc_run, tissue as mfc_tissue
+from ..study import level_name
 
 
 def _write_cells(path, cell):
@@ -64,7 +65,7 @@ def glue_fresh_lamella(out, centres, p):
 def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     """Relax the MFC tissue whose cells sit at ``centres`` (CGMS bead positions, m) at
     every level (descending; the fresh level 1 first, it is the reference), along the
-    drying ramp of :func:`cgms.mfc_run.ramp`. Returns the per-level summaries.
+    drying ramp of :func:`cgms.mfc.run.ramp`. Returns the per-level summaries.
     ``out/setup.json`` records the centres, the parameters and the solver options,
     the ramp's kick ``seed`` among them; a folder with another record is refused
     (FolderError), so a resume never mixes them. The default seed is left out of the

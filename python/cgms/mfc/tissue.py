@@ -18,7 +18,7 @@ import math
 import numpy as np
 from scipy.spatial import cKDTree
 
-from . import folders
+from .. import folders
 
 #: neighbours closer than this many lattice spacings are adjacent cells
 ADJACENT = 1.2
@@ -149,7 +149,7 @@ def write_data(path, centres, p, s=1.0, margin=None, title="MFC tissue", overwri
     lamella at the built walls (types 2 and 3 for "bonded", 2 for "facing", none
     otherwise). ``xy``: wall positions other than the built ones (same cells, same
     order). Returns the :func:`walls` dict. An existing file is kept unless ``overwrite``."""
-    from .mfc_model import level
+    from .model import level
     w = walls(centres, p)
     xy = w["xy"] if xy is None else np.asarray(xy, float)
     n, ncell = p["n_wall"], len(centres)

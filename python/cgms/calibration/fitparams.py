@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
-from . import model
-from .material import DERIVED, PARAMETERS
+from .. import model
+from ..material import DERIVED, PARAMETERS
 
 #: default search interval (factors of the start value) for each kind of parameter
 BOUNDS = (0.05, 20.0)

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from . import morphology
+from .. import morphology
 
 
 def polygons(xy, n_wall):

@@ -33,8 +33,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from scipy.spatial import cKDTree
 
-from .solve import (LammpsForces, colour, colouring_holds, step_accepted,
-                    without_rigid_motion)
+from ..solve import LammpsForces, colour, colouring_holds, step_accepted, without_rigid_motion
 
 
 def area_gradient(xy, n_wall):
@@ -147,7 +146,7 @@ def matrix(hess, fluid, g, n_wall):
 def newton(lmp, p, ftol=1e-10, max_iterations=40, max_move=5e-6, step=5e-11, fix_id="mfc",
            log=None):
     """Minimise the fast variant's energy in the LAMMPS instance ``lmp`` (set up by
-    :func:`cgms.mfc_run.setup_commands` and the levers of a level) from its current
+    :func:`cgms.mfc.run.setup_commands` and the levers of a level) from its current
     positions, until the largest force component is below ``ftol`` (N). ``max_move``: the
     largest displacement of a particle in one step (m); ``step``: the finite-difference
     displacement (m). Leaves LAMMPS at the result; returns a report: iterations, force
