@@ -267,7 +267,7 @@ def inline_commands(path):
     return [s.split("python3 -m cgms", 1)[1].strip() for s in spans]
 
 
-@pytest.mark.parametrize("doc", ["README.md", "examples/macroscale/README.md"])
+@pytest.mark.parametrize("doc", ["README.md", "studies/macroscale/README.md"])
 def test_inline_commands_parse(doc):
     """Each command's subcommand and options exist and take the values shown."""
     found = inline_commands(ROOT / doc)

@@ -3,11 +3,11 @@
 # see the LICENSE file in the top-level directory.
 """CGMS against the fine-scale (MFC) reference, tissue by tissue and level by level.
 
-Usage (after ``source build/env.sh``; doc/validation.md, "CGMS against the MFC"):
+Usage (after ``source build/env.sh``; doc/results/validation.md, "CGMS against the MFC"):
 
-    python3 examples/calibration/compare.py --mfc MFC_FOLDER \
+    python3 studies/calibration/compare.py --mfc MFC_FOLDER \
         --cgms paper=results/microscale/apple --cgms calibrated=results/microscale/apple-mfc \
-        --out doc/validation-mfc
+        --out doc/results/validation-mfc
 
 MFC_FOLDER holds one folder per tissue (``python3 -m cgms mfc ... --out MFC_FOLDER``) with
 ``centroids.s<s>.txt``; each ``--cgms`` folder is a ``python3 -m cgms main`` study with

@@ -5,11 +5,11 @@
 (doc/calibration.md, "Against the MFC"). From the repository root, after
 ``source build/env.sh``:
 
-    python3 examples/calibration/fit.py [--material NAME] [--mfc FOLDER] [--out OUT]
+    python3 studies/calibration/fit.py [--material NAME] [--mfc FOLDER] [--out OUT]
             [--hold NAME[,NAME]] [--install]
 
 ``--material``: the start material (default apple; potato: the second tissue, whose
-86-cell tissue is apple's scaled to potato's cell spacing, examples/calibration/potato.py).
+86-cell tissue is apple's scaled to potato's cell spacing, studies/calibration/potato.py).
 ``--mfc``: the calibration tissue's MFC results, ``centroids.s<s>.txt`` per level (default
 reference/mfc/calibration for apple, made by ``python3 -m cgms mfc``;
 reference/mfc/potato-calibration for potato, made by potato.py).
@@ -219,7 +219,7 @@ def main(argv=None):
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                                 text=True).stdout.strip()
         lines = Path(result["material_file"]).read_text().splitlines()
-        made = [f"# Made by: python3 examples/calibration/fit.py --material {given} "
+        made = [f"# Made by: python3 studies/calibration/fit.py --material {given} "
                 f"--mfc {args.mfc} --out {args.out} --levels {args.levels}"
                 + (f" --also {args.also}" if args.also else "")
                 + (f" --hold {args.hold}" if args.hold else "")

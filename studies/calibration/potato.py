@@ -4,8 +4,8 @@
 """The second tissue: potato through the chain MFC parameters -> MFC reference -> CGMS fit
 (doc/calibration.md, "Potato"). From the repository root, after ``source build/env.sh``:
 
-    python3 examples/calibration/potato.py mfc --out OUT [--levels 1,0.8] [--resume]
-    python3 examples/calibration/fit.py --material potato --mfc OUT/calibration ...
+    python3 studies/calibration/potato.py mfc --out OUT [--levels 1,0.8] [--resume]
+    python3 studies/calibration/fit.py --material potato --mfc OUT/calibration ...
 
 ``mfc`` dries the 86-cell calibration tissue of potato (the apple layout scaled by the
 ratio of lattice spacings, so cell i is bead i of the same 86-bead CGMS tissue) in the

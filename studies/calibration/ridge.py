@@ -8,7 +8,7 @@ solve gave it, how long it took, and the centroid RMSD (eqn 2, rigid motion remo
 against the MFC reference and against the installed file's own state.
 
     source build/env.sh
-    /usr/bin/python3 examples/calibration/ridge.py --factors 1,10,100 --dt 5e-8 --out /tmp/ridge
+    /usr/bin/python3 studies/calibration/ridge.py --factors 1,10,100 --dt 5e-8 --out /tmp/ridge
 
 Writes ``<out>/ridge.csv`` (one row per factor, tissue, level) and prints a summary per
 factor. Each steady state: FIRE at ``--dt``, and where it stops or does not converge the

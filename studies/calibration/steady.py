@@ -3,7 +3,7 @@
 # see the LICENSE file in the top-level directory.
 """CGMS steady states of the microscale tissues, solved as the calibration solves them.
 
-    python3 examples/calibration/steady.py --material apple-mfc --out OUT [--levels 1,0.8,0.6]
+    python3 studies/calibration/steady.py --material apple-mfc --out OUT [--levels 1,0.8,0.6]
         [--tissues calibration,1.5x1.5,...]
 
 Writes ``OUT/<tissue>/level.s<s>.npy`` (bead positions, m), the layout compare.py reads

@@ -15,7 +15,7 @@ Transport only (shape frozen, a window of a large slice: both faces in air, no o
 on a 16-bead patch (the field is uniform in plane), 20 layers across the half thickness.
 A few minutes on one core:
 
-    /usr/bin/python3 examples/drying/fit_diffusivity.py
+    /usr/bin/python3 studies/drying/fit_diffusivity.py
 """
 
 import argparse

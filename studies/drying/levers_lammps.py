@@ -7,7 +7,7 @@ the frozen fresh lattice, for the microscale tissue and (``--macro``) the 2 x 2 
 Prints the table of doc/drying.md ("In LAMMPS"). Run from anywhere with the CGMS
 environment (source build/env.sh):
 
-    /usr/bin/python3 examples/drying/levers.py --every 500 2000 5000 [--outline] [--macro]
+    /usr/bin/python3 studies/drying/levers_lammps.py --every 500 2000 5000 [--outline] [--macro]
 """
 
 import argparse
@@ -19,7 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
+#: the input it runs, with its levers as -var switches
+TRANSPORT = Path(__file__).resolve().parents[2] / "examples" / "drying" / "in.transport"
 
 FROZEN = """units si
 dimension 2
@@ -84,7 +85,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         for every in args.every:
-            out, wall = lmp(tmp, ["-in", str(HERE / "in.transport"), "-var", "every", str(every),
+            out, wall = lmp(tmp, ["-in", str(TRANSPORT), "-var", "every", str(every),
                                   "-var", "rows", "1", "-var", "outline", outline])
             r = rows(out, 10)      # the drying run's rows (the relaxations print fewer)
             t, x, aa = r[:, 1], r[:, 2], r[:, 7]

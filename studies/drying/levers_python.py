@@ -8,7 +8,7 @@ levers"): the transport levers (``layers``, ``dx_max``) with the shape frozen, a
 shape solves (``resolve``, FIRE or Newton) with the outline in air. Run with the CGMS
 environment (source build/env.sh); about 5 minutes on one core:
 
-    /usr/bin/python3 examples/drying/levers_python.py [--no-transport] [--no-shape]
+    /usr/bin/python3 studies/drying/levers_python.py [--no-transport] [--no-shape]
 """
 
 import argparse

@@ -6,7 +6,7 @@ wall and CPU time, iterations, converged or not, largest force, the shape, and h
 each side of the tissue bends inward (cgms.morphology.side_bow, positive = inward).
 
     source build/env.sh
-    /usr/bin/python3 examples/macroscale/newton.py --material apple --level 0.3 --out /tmp/m
+    /usr/bin/python3 studies/macroscale/newton.py --material apple --level 0.3 --out /tmp/m
 
 Unlike ``cgms study`` it runs any level, also one outside the range a calibrated material
 file says it is valid for (to measure the solver there, not to present the shape as valid).

@@ -5,7 +5,7 @@
 for the MFC (doc/mfc.md, "Tissues"): fresh lateral widening, contraction towards the centre,
 periphery shrinking less than the interior, monotone A/A0, P/P0, EL/EL0.
 
-    /usr/bin/python3 examples/mfc/behaviour.py results/mfc/<date-time>/calibration [name] [edge]
+    /usr/bin/python3 studies/mfc/behaviour.py results/mfc/<date-time>/calibration [name] [edge]
 
 edge: the outline's longest edge in median nearest-neighbour spacings of each state (default
 the CGMS default, 1.5; the dried cells' irregular centroids need about 2, doc/mfc.md).

@@ -7,7 +7,7 @@ it: after the best translation, and after the best rigid motion), the largest di
 and the tissue measures A/A0, P/P0, EL/EL0 of each set with the outline of 2.0 median
 spacings (the default 1.5 drops triangles at s = 0.3).
 
-    /usr/bin/python3 examples/mfc/compare.py reference/mfc/calibration <folder>/calibration
+    /usr/bin/python3 studies/mfc/compare.py reference/mfc/calibration <folder>/calibration
 """
 
 import sys

@@ -9,7 +9,7 @@ spacings), the energy; at the end a geometric fit of the per-chunk changes and t
 remaining change it extrapolates to.
 
     source build/env.sh
-    /usr/bin/python3 examples/mfc/creep.py results/mfc/<date-time>/calibration 0.6 [chunks]
+    /usr/bin/python3 studies/mfc/creep.py results/mfc/<date-time>/calibration 0.6 [chunks]
 
 The folder needs ``state.s<s>.data``, ``lamella.txt`` and ``centroids.s1.txt`` (a study
 with the lamella set in the fresh tissue)."""

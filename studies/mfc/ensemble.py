@@ -5,7 +5,7 @@
 several ``cgms mfc`` runs that differ only in the ramp's kick seed (``--seed``; the dried
 levels land on neighbouring minima that the seed alone moves: doc/mfc.md).
 
-    /usr/bin/python3 examples/mfc/ensemble.py OUT MEMBER [MEMBER ...]
+    /usr/bin/python3 studies/mfc/ensemble.py OUT MEMBER [MEMBER ...]
 
 Each MEMBER is a tissue folder of ``cgms mfc`` (``centroids.s<s>.txt``, ``level.s<s>.json``);
 only the levels every member has are used. Writes into OUT:
@@ -14,7 +14,7 @@ only the levels every member has are used. Writes into OUT:
   (ddof 1), min, max and the members' values in the order given. Tissue measures from the
   cell centroids' outline (:func:`cgms.morphology.measures`), each member normalised by its
   own s = 1 state: ``A/A0``, ``P/P0``, ``EL/EL0`` (the paper's), ``ELpca/ELpca0`` (second
-  moments), at the outline's longest edge 2.0 median spacings (as doc/validation.md) and
+  moments), at the outline's longest edge 2.0 median spacings (as doc/results/validation.md) and
   2.5 (suffix ``@2.5``; the default 1.5 of ``level.s<s>.json`` drops cells at s = 0.3 and
   counts holes); cell means from the
   records: ``cell_area/A0``, ``cell_perimeter/P0``, ``cell_roundness``,
@@ -118,7 +118,7 @@ def main(out, members):
         label = ", ".join(str(m) for m in members)
         positions.write_centroids(out / f"centroids.{name}.txt", mean, overwrite=True,
                                   comment=f"MFC ensemble mean centroids at s = {s:g}, "
-                                          f"{len(members)} members (examples/mfc/ensemble.py): "
+                                          f"{len(members)} members (studies/mfc/ensemble.py): "
                                           f"{label}")
         spread = np.column_stack([np.arange(1, d.shape[1] + 1), np.sqrt(np.mean(d ** 2, axis=0))
                                   * 1e6, d.max(axis=0) * 1e6])

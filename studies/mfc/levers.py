@@ -5,7 +5,7 @@
 tissue: per level the cell measures, the tissue measures, local shrinkage of the periphery
 and the interior, convergence and wall time (doc/mfc.md, decisions).
 
-    /usr/bin/python3 examples/mfc/levers.py OUT CELLS LEVELS [key=value ...]
+    /usr/bin/python3 studies/mfc/levers.py OUT CELLS LEVELS [key=value ...]
 
 CELLS: 7, 19 (hexagonal clusters) or a tissue name of `cgms mfc` (calibration = 86 cells);
 LEVELS: e.g. 1,0.6,0.3; key=value: MFC parameters, e.g. lamella=lj bend_factor=10

@@ -9,7 +9,7 @@ direction (from the tissue centre) against fresh, and the centroid spacings of
 interior-interior, outline-interior and outline-outline neighbours against fresh.
 
     source build/env.sh
-    /usr/bin/python3 examples/mfc/periphery.py results/mfc/<date-time>/calibration"""
+    /usr/bin/python3 studies/mfc/periphery.py results/mfc/<date-time>/calibration"""
 
 import sys
 

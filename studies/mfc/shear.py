@@ -5,11 +5,11 @@
 test of cgms.shear on blocks of cells, in the MFC (fast variant) and in CGMS over a range of
 k_S, and the k_S whose shear modulus matches the MFC's.
 
-    /usr/bin/python3 examples/mfc/shear.py OUT [--blocks 8x5,12x7] [--levels 1,0.8]
+    /usr/bin/python3 studies/mfc/shear.py OUT [--blocks 8x5,12x7] [--levels 1,0.8]
         [--materials apple-mfc,apple] [--k-s 0,0.5,1,2,4] [--mfc-only | --cgms-only]
         [--tissue potato --mfc-set wall_Et=660 --materials potato-mfc,potato] [--report]
         [--mfc-solver max_iterations=80000]
-    /usr/bin/python3 examples/mfc/shear.py OUT --effects [--materials ...] [--k-s ...]
+    /usr/bin/python3 studies/mfc/shear.py OUT --effects [--materials ...] [--k-s ...]
 
 One JSON per run in OUT (``mfc[-<tissue>]-<block>-s<s>.json``, ``cgms-<material>-<block>-s<s>-kS<k>.json``);
 a run whose JSON exists is read back, not run again, so an interrupted study resumes.
@@ -196,7 +196,7 @@ def main(argv=None):
                     help="CGMS material whose shared values the MFC takes (apple, potato)")
     ap.add_argument("--mfc-set", default="", metavar="NAME=VALUE,...",
                     help="MFC values other than mfc_model.MFC's; potato's reference: "
-                         "wall_Et=660 (examples/calibration/potato.py)")
+                         "wall_Et=660 (studies/calibration/potato.py)")
     ap.add_argument("--mfc-solver", default="", metavar="NAME=VALUE,...",
                     help="MFC steady-state solver options other than mfc_run.DEFAULTS, e.g. "
                          "max_iterations=80000 (a dried free state settled longer)")

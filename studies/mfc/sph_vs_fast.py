@@ -5,9 +5,9 @@
 one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
 
     source build/env.sh
-    /usr/bin/python3 examples/mfc/sph_vs_fast.py [cells: 1 or 7] [levels, e.g. 1,0.8]
-    /usr/bin/python3 examples/mfc/sph_vs_fast.py 7 0.8,0.6,0.3 --from-fast [--kick 0.5]
-    /usr/bin/python3 examples/mfc/sph_vs_fast.py 1 --ap 0.2 --kernel wendland [--path density]
+    /usr/bin/python3 studies/mfc/sph_vs_fast.py [cells: 1 or 7] [levels, e.g. 1,0.8]
+    /usr/bin/python3 studies/mfc/sph_vs_fast.py 7 0.8,0.6,0.3 --from-fast [--kick 0.5]
+    /usr/bin/python3 studies/mfc/sph_vs_fast.py 1 --ap 0.2 --kernel wendland [--path density]
 
 Default: both models dried along the same ramp from the fresh cell(s); ``--path`` is how
 SPH takes each stage (``cgms.mfc_sph.dry``: "affine", everything moved in with the

@@ -14,7 +14,7 @@
   fixes the centroids.
 
     source build/env.sh
-    /usr/bin/python3 examples/mfc/steady.py <folder>/calibration 0.3 [kick ...]
+    /usr/bin/python3 studies/mfc/steady.py <folder>/calibration 0.3 [kick ...]
 
 The folder needs ``state.s<s>.data`` and ``lamella.txt`` (a study with the lamella set in the
 fresh tissue)."""

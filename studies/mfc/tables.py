@@ -4,7 +4,7 @@
 """Markdown tables of a `cgms mfc` study folder: tissue-level results and cost per tissue
 and level (doc/mfc.md).
 
-    /usr/bin/python3 examples/mfc/tables.py results/mfc/<date-time> [more folders]
+    /usr/bin/python3 studies/mfc/tables.py results/mfc/<date-time> [more folders]
 """
 
 import json

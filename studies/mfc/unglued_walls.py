@@ -10,7 +10,7 @@ every wall contracting (``all``); print the local shrinkage of the outline cells
 inner ones, their cell areas and A/A0, P/P0 (outline of 2.0 median spacings).
 
     source build/env.sh
-    /usr/bin/python3 examples/mfc/unglued_walls.py <study folder> <scratch prefix> [unglued|all]
+    /usr/bin/python3 studies/mfc/unglued_walls.py <study folder> <scratch prefix> [unglued|all]
 
 About 3-5 min for 19 cells."""
 
