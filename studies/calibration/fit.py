@@ -2,7 +2,7 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Calibrate CGMS against the fine-scale (MFC) reference of the 86-cell calibration tissue
-(doc/calibration.md, "Against the MFC"). From the repository root, after
+(doc/results/calibration.md, "Against the MFC"). From the repository root, after
 ``source build/env.sh``:
 
     python3 studies/calibration/fit.py [--material NAME] [--mfc FOLDER] [--out OUT]

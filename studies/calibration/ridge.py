@@ -12,7 +12,7 @@ against the MFC reference and against the installed file's own state.
 
 Writes ``<out>/ridge.csv`` (one row per factor, tissue, level) and prints a summary per
 factor. Each steady state: FIRE at ``--dt``, and where it stops or does not converge the
-dynamics (cgms.study.relax_or_fallback, at the same dt). doc/calibration.md, "A smaller
+dynamics (cgms.study.relax_or_fallback, at the same dt). doc/results/calibration.md, "A smaller
 k_T on the ridge", has the results."""
 
 import argparse

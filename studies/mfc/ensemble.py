@@ -21,7 +21,7 @@ only the levels every member has are used. Writes into OUT:
   ``cell_elongation``; ``rmsd_to_mean_um``, each member's centroid RMSD from the mean
   (rigid motion removed); ``pairwise_rmsd_um``, that of every pair of members; and
   ``floor_um``, the spread sigma per centroid, sqrt(mean pairwise RMSD^2 / 2), the RMSD a
-  deterministic model cannot beat against one member (doc/calibration.md, "The floor").
+  deterministic model cannot beat against one member (doc/results/calibration.md, "The floor").
 - ``centroids.s<s>.txt``: the mean centroids after superposition (the reference format,
   cell id = bead id, in the first member's frame): each member moved by the best rigid
   motion (:func:`cgms.superpose.align`) onto the mean, the mean recomputed, until it stops
