@@ -2,7 +2,7 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Tissue-level behaviour of a `cgms mfc` tissue folder against what the CGMS paper reports
-for the MFC (doc/mfc.md, "Tissues"): fresh lateral widening, contraction towards the centre,
+for the MFC (doc/results/mfc.md, "Tissues"): fresh lateral widening, contraction towards the centre,
 periphery shrinking less than the interior, monotone A/A0, P/P0, EL/EL0.
 
     /usr/bin/python3 studies/mfc/behaviour.py results/mfc/<date-time>/calibration [name] [edge]

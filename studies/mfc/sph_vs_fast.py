@@ -2,7 +2,7 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Steady states of the full SPH model against the fast variant (one pressure per cell) on
-one cell or a 7-cell cluster (doc/mfc.md, "SPH against the fast variant").
+one cell or a 7-cell cluster (doc/results/mfc.md, "SPH against the fast variant").
 
     source build/env.sh
     /usr/bin/python3 studies/mfc/sph_vs_fast.py [cells: 1 or 7] [levels, e.g. 1,0.8]

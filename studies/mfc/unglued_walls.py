@@ -2,7 +2,7 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Is the wall contraction of the unglued walls what makes the periphery shrink more?
-(doc/mfc.md, "The periphery".) From a study folder with the lamella set in the fresh
+(doc/results/mfc.md, "The periphery".) From a study folder with the lamella set in the fresh
 tissue (``lamella.data``, ``lamella.txt``), dry along the ramp to s = 0.6 and 0.3 with
 the ring bonds that have no lamella bond at either end (the outer walls and the opened
 three-cell corners) kept at their fresh rest length (``unglued``) or, for comparison, with
