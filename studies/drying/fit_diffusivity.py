@@ -2,7 +2,7 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Fit D_ref and D_energy of potentials/apple-drying.params to measured apple drying
-(doc/drying.md, "Fitting the diffusivity"), like for like: the model dries a slice under
+(doc/results/drying.md, "Fitting the diffusivity"), like for like: the model dries a slice under
 the measurement's conditions, and its drying curve is reduced by the slope method the
 literature uses (Crank's slab series, first term: ln MR = ln(8/pi^2) - pi^2 D t / (4 l^2),
 l the half thickness, a straight line fitted to ln MR over 1 >= MR >= 0.1). The model's

@@ -4,7 +4,7 @@
 """Measure the levers of drying inside LAMMPS (in.transport, fix cgms/transport feeding
 fix cgms/fluid): the MD steps between moisture steps (``every``), and the transport alone on
 the frozen fresh lattice, for the microscale tissue and (``--macro``) the 2 x 2 cm tissue.
-Prints the table of doc/drying.md ("In LAMMPS"). Run from anywhere with the CGMS
+Prints the table of doc/results/drying.md ("In LAMMPS"). Run from anywhere with the CGMS
 environment (source build/env.sh):
 
     /usr/bin/python3 studies/drying/levers_lammps.py --every 500 2000 5000 [--outline] [--macro]

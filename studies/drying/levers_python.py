@@ -3,7 +3,7 @@
 # see the LICENSE file in the top-level directory.
 """Measure the accuracy levers of ``python3 -m cgms dry`` (cgms.drying.dry) on the 248-bead
 tissue (2.0 x 2.5 mm) at 70 C, 10 % RH, 1.5 m/s, 2 mm, with the parameters of
-potentials/apple-drying.params, and print the two tables of doc/drying.md ("Accuracy
+potentials/apple-drying.params, and print the two tables of doc/results/drying.md ("Accuracy
 levers"): the transport levers (``layers``, ``dx_max``) with the shape frozen, and the
 shape solves (``resolve``, FIRE or Newton) with the outline in air. Run with the CGMS
 environment (source build/env.sh); about 5 minutes on one core:
