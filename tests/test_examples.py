@@ -31,9 +31,12 @@ EPS = sys.float_info.epsilon / 2
 
 
 def run_example(folder, example, nprocs=1):
-    """Run ``example`` in ``folder`` as its header says (the environment of build/env.sh);
-    the completed process, its log in ``folder/log.lammps``."""
-    shutil.copy(example, folder)
+    """Run ``example`` in ``folder`` as its header says (the environment of build/env.sh),
+    with the files it reads (the example's folder but its logs); the completed process, its
+    log in ``folder/log.lammps``."""
+    for path in example.parent.iterdir():
+        if path.is_file() and not path.name.startswith("log."):
+            shutil.copy(path, folder)
     env = lammps_env()
     # the examples rely on the environment that build/env.sh sets
     env["LAMMPS_PLUGIN_PATH"] = str(Path(PLUGIN).parent)
