@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""The creep of a dried level (doc/mfc.md, "The creep of the dried levels"): carry on
+"""The creep of a dried level (doc/results/mfc.md, "The creep of the dried levels"): carry on
 minimising a stored steady state of a study folder, chunk by chunk, and print what each
 chunk moves (centroids, with and without the best rigid motion; the outer 30 % of the
 cells against the rest), the tissue measures A/A0, P/P0, EL/EL0 (outline of 2.0 median
