@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""Hold ``python3 -m cgms dry`` against what was measured on drying apple (doc/drying-measured.md).
+"""Hold ``python3 -m cgms dry`` against what was measured on drying apple (doc/results/drying-measured.md).
 
 No measured drying curve was readable (reference/drying/README.md), so this compares what
 the first-hand sources of reference/drying/ state: the drying-time window of the fitted
@@ -56,7 +56,7 @@ RUNS = {
 }
 # Wijerathne et al. 2019, section 4.3: A/A0 at X/X0 = 0.3 deviates from the experiment by
 # 15-24 % (CGMS); the moisture-domain CGMS A/A0 at s = 0.3 of these tissues is 0.705-0.711
-# (doc/validation.md); with the model above the experiment the measured A/A0 was
+# (doc/results/validation.md); with the model above the experiment the measured A/A0 was
 # A_model / (1 + e): an inference, not a reading
 PAPER_ERROR = (0.15, 0.24)
 PAPER_MODEL_A03 = (0.705, 0.711)

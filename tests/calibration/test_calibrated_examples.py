@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""examples/calibration/steady.py and compare.py, the tools behind doc/validation.md's
+"""studies/calibration/steady.py and compare.py, the tools behind doc/results/validation.md's
 comparison with the MFC: the equal-moisture state is the one the analytic steady state
 says holds s x the fresh water, and CGMS compared with its own states deviates by nothing."""
 
@@ -14,7 +14,7 @@ from scipy.optimize import brentq
 from cgms import material, model, positions, study
 from cgmstest import APPLE, ROOT, require_lammps
 
-sys.path.insert(0, str(ROOT / "examples" / "calibration"))
+sys.path.insert(0, str(ROOT / "studies" / "calibration"))
 import compare  # noqa: E402
 import steady  # noqa: E402
 

@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""examples/calibration/fit.py --hold: a held parameter is never handed to the minimiser
+"""studies/calibration/fit.py --hold: a held parameter is never handed to the minimiser
 (neither as fitted nor with a bound), so it keeps the start material's value; a name that
 is not one of the paper's four is refused in one line. cgms.calibration.calibrate itself is
 replaced by a recorder: what is checked is the script's choice of parameters, not the fit."""
@@ -13,7 +13,7 @@ import pytest
 
 from cgmstest import ROOT
 
-sys.path.insert(0, str(ROOT / "examples" / "calibration"))
+sys.path.insert(0, str(ROOT / "studies" / "calibration"))
 import fit  # noqa: E402
 
 

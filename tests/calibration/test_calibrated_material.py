@@ -45,7 +45,7 @@ def test_header_says_how_it_was_made():
     head = [line for line in text.splitlines() if line.startswith("#")]
     assert head[0].startswith("# DATE:") and "UNITS: si" in head[0]
     joined = " ".join(head)
-    for needed in ("examples/calibration/fit.py", "commit", "reference/mfc/calibration", "RMSD"):
+    for needed in ("studies/calibration/fit.py", "commit", "reference/mfc/calibration", "RMSD"):
         assert needed in joined, needed
     # every level the header quotes has its reference centroids in the repository
     assert fitted_levels() <= set(reference_levels())

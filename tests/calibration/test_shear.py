@@ -111,13 +111,13 @@ def test_mfc_shear_small_block(tmp_path):
 
 
 def test_shear_script_settling_and_exponent():
-    """examples/mfc/shear.py's summary of an MFC run: on a synthetic linear-elastic block
+    """studies/mfc/shear.py's summary of an MFC run: on a synthetic linear-elastic block
     (stress G gamma, stored energy the exact (G/2) gamma^2 gap width) G is recovered both
     ways and energy / work is 1; a constant stress offset (a creeping free state) moves G
     through the origin but not G with an intercept; G ~ s^6 gives the exponent 6."""
     import sys
     from pathlib import Path
-    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "examples" / "mfc"))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "studies" / "mfc"))
     import shear as script
     G, gap, length = 0.7, 5e-4, 6e-4
 

@@ -5,8 +5,8 @@
 
 The examples are read from the files themselves, so an edited example is what is tested:
 the Examples block of every style page (doc/*.rst, ``code-block:: LAMMPS``) and the fenced
-blocks of README.md (LAMMPS inputs, Python, shell), the README's inline
-``python3 -m cgms ...`` commands, and the example of doc/python.md.
+blocks of README.md and of the guide its detail moved to, doc/using.md (LAMMPS inputs,
+Python, shell), their inline ``python3 -m cgms ...`` commands, and the example of doc/python.md.
 
 - LAMMPS blocks run in the plugin's LAMMPS. A style page's block is a list of variants
   (paragraphs; lines that define the same ID again): each paragraph runs in a fresh
@@ -35,6 +35,8 @@ from cgmstest import ROOT, XREF, require_lammps
 
 DOC = ROOT / "doc"
 README = ROOT / "README.md"
+#: the guide the README's detail moved to (the plugin line, dumps, your own LAMMPS, venv)
+USING = DOC / "using.md"
 #: the placeholder the docs use for this checkout
 CHECKOUT = "/path/to/cgms"
 
@@ -199,15 +201,16 @@ def test_style_page_example_runs(folder, page):
 
 # --------------------------------------------------------------------------- README
 
-def readme_blocks(language):
-    return [text for lang, text in fenced_blocks(README) if lang == language]
+def readme_blocks(language, path=README):
+    return [text for lang, text in fenced_blocks(path) if lang == language]
 
 
 @pytest.mark.lammps
 def test_readme_lammps_inputs_run(folder):
     """The plugin line, the minimal input (as written: 100 000 steps of the fixture's 28
     beads) and the OVITO dump lines (after the minimal input's set-up, then run 0)."""
-    plugin, minimal, ovito = readme_blocks("")
+    (minimal,) = readme_blocks("")
+    plugin, ovito = readme_blocks("", USING)
     run_lines(plugin.splitlines(), folder / "log.plugin.lammps", plugin=False)
     text = run_lines(minimal.splitlines(), folder / "log.minimal.lammps")
     assert "Loop time" in text
@@ -223,7 +226,8 @@ def test_readme_python_examples_run(folder):
     """The fields/run example, then the trajectory example on a trajectory that
     ``cgms.study.relax(..., method="dynamics", dump_every=N)`` writes, as the README says."""
     from cgms import study
-    first, trajectory = readme_blocks("python")
+    (first,) = readme_blocks("python")
+    (trajectory,) = readme_blocks("python", USING)
     exec(compile(first, "README.md (From Python)", "exec"), {})
     study.relax("tissue.data", ROOT / "potentials" / "apple.cgms", 0.3, folder,
                 method="dynamics", dump_every=2000)
@@ -249,7 +253,8 @@ def test_readme_shell_blocks_are_commands_that_exist():
     install), so checked: the two commands are cases of ./cgms; the set-up and CMake read
     the README's variables (a configure takes longer than this whole file's budget); the
     venv commands name a pip-installable package whose module runs."""
-    commands, own_lammps, venv = readme_blocks("sh")
+    (commands,) = readme_blocks("sh")
+    own_lammps, venv = readme_blocks("sh", USING)
     script = (ROOT / "cgms").read_text()
     for line in commands.splitlines():
         word = shlex.split(line, comments=True)
@@ -278,7 +283,7 @@ def inline_commands(path):
     return [s.split("python3 -m cgms", 1)[1].strip() for s in spans]
 
 
-@pytest.mark.parametrize("doc", ["README.md", "examples/macroscale/README.md"])
+@pytest.mark.parametrize("doc", ["README.md", "doc/using.md", "studies/macroscale/README.md"])
 def test_inline_commands_parse(doc):
     """Each command's subcommand and options exist and take the values shown."""
     found = inline_commands(ROOT / doc)

@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""examples/drying/fit_diffusivity.py: its slope method against Crank's series (tests/crank.py,
+"""studies/drying/fit_diffusivity.py: its slope method against Crank's series (tests/crank.py,
 independent of the script), and what doc/drying.md concludes from it about two falling-rate
 periods: with D constant, the model reads a larger D_eff over the dry half of its curve than
 over the wet half only because the wet slice sits near the wet-bulb temperature; with the
@@ -16,7 +16,7 @@ import crank
 from cgms import drying, tissue
 from cgmstest import ROOT
 
-sys.path.insert(0, str(ROOT / "examples" / "drying"))
+sys.path.insert(0, str(ROOT / "studies" / "drying"))
 import fit_diffusivity as fd  # noqa: E402
 
 D = 4e-10          # m^2/s

@@ -3,7 +3,7 @@
 # see the LICENSE file in the top-level directory.
 """studies/measured_drying/compare.py: the measured data of reference/drying/ read as
 their sources state them, and the crossing and level look-ups against cases whose answer
-is known exactly (doc/drying-measured.md). No LAMMPS."""
+is known exactly (doc/results/drying-measured.md). No LAMMPS."""
 
 import importlib.util
 from pathlib import Path

@@ -5,7 +5,7 @@
 Lucy or Wendland C2 kernel) against a NumPy oracle written from the papers' formulas,
 against LAMMPS's own sph/taitwater/morris with the artificial pressure off, Newton's third
 law, 1 vs 2 ranks, restart, bad coefficients; and one single MFC cell dried by SPH itself
-without its fluid pairing up (doc/mfc.md, "An SPH drying path")."""
+without its fluid pairing up (doc/results/mfc.md, "An SPH drying path")."""
 
 import math
 import os

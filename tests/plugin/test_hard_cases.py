@@ -3,7 +3,7 @@
 # see the LICENSE file in the top-level directory.
 """Hard cases for the dynamics (issue 6): moisture fields, jittered and overlapping beads,
 unusual tissue shapes, heterogeneous cells, time steps, a large tissue, two MPI ranks, a
-drying schedule and the paper's sensitivity extremes. doc/validation.md ("Hard cases")
+drying schedule and the paper's sensitivity extremes. doc/results/validation.md ("Hard cases")
 lists every case with its measured outcome.
 
 Every case runs the dynamics (fix nve, CGMS defaults, dt = 1e-7 s unless it says

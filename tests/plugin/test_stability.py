@@ -158,7 +158,7 @@ def test_default_and_literal_schemes_share_the_steady_state(tmp_path, scheme, dt
     its damping limit, over the same 5 ms: A, P, EL and X/X0 stay within 1e-8 (issue 6
     asks for 1e-4), the pressure residual below 1e-9. (This shows the two schemes share
     this fixed point; relaxing to it from elsewhere is slow for both, see the creep in
-    doc/validation.md.)"""
+    doc/results/validation.md.)"""
     from cgms import morphology, run, tissue
     from cgmstest import APPLE, XREF
     xy = tissue.rectangle(1.25e-3, 1.5e-3, XREF)  # the 86-bead calibration tissue

@@ -212,14 +212,14 @@ def test_calibration_runner_ramp_matches_the_study_ramp(small_tissue, tmp_path):
 
 
 def test_fit_script_passes_the_ramp_and_lifts_the_lj_slope_bound(tmp_path, monkeypatch):
-    """examples/calibration/fit.py --start previous: every fit is asked for a ramp, and
+    """studies/calibration/fit.py --start previous: every fit is asked for a ramp, and
     lj_slope may go where the LJ radius at the driest level is half of r0, (1 - 0.5) /
     -ln 0.3 = 0.4153, instead of where the cutoff still holds the built lattice, (1 -
     1.01/1.35) / -ln 0.3 = 0.2092. cgms.calibration.calibrate is replaced by a recorder."""
     import math
     import sys
     from cgmstest import ROOT
-    sys.path.insert(0, str(ROOT / "examples" / "calibration"))
+    sys.path.insert(0, str(ROOT / "studies" / "calibration"))
     import fit
     seen = []
 
