@@ -57,6 +57,16 @@ namespace CGMS {
     NOUTPUTS
   };
 
+  // What the geometry pass sums per bead (local and ghost; summed over ranks by
+  // reverse communication): the neighbours within the cutoff, N, and the sum of
+  // their centre distances, sum_k x_ik (eqn 10). Two doubles, so that the
+  // communication packs them as such.
+  struct NeighbourSums {
+    double count;       // N
+    double distance;    // sum_k x_ik (m)
+  };
+  constexpr int NSUMS = sizeof(NeighbourSums) / sizeof(double);
+
   // Names of the output columns for dump custom, compute property/atom and the
   // fix's per-atom array, in output order.
   extern const char *const column_names[NOUTPUTS];

@@ -9,14 +9,13 @@
 
 #include "atom.h"
 #include "atom_vec_cgms.h"
+#include "cgms_laws.h"
 #include "cgms_store.h"
 #include "comm.h"
 #include "error.h"
 #include "force.h"
 #include "input.h"
-#include "math_const.h"
 #include "memory.h"
-#include "min.h"
 #include "modify.h"
 #include "my_page.h"
 #include "neigh_list.h"
@@ -34,9 +33,6 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 using namespace CGMS;
-using MathConst::MY_PI;
-
-static const double SQRT3 = sqrt(3.0);
 
 /* ----------------------------------------------------------------------
    entries a neighbour list holds since its last build: each thread's page
@@ -54,39 +50,12 @@ static bigint list_entries(const NeighList *list, int nthreads)
   }
   return n;
 }
-static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
-
-// 1 / (sqrt(3) N) of eqn (10) for the neighbour counts that occur: a lookup
-// instead of a division per bead
-static constexpr int MAXCOUNT = 32;
-static const struct InverseCounts {
-  double value[MAXCOUNT];
-  InverseCounts()
-  {
-    value[0] = 0.0;
-    for (int n = 1; n < MAXCOUNT; n++) value[n] = 1.0 / (sqrt(3.0) * n);
-  }
-  double operator[](int n) const { return value[n]; }
-} INV_SQRT3_N;
-
 /* ----------------------------------------------------------------------
-   the formulas both the fluid pass and the outputs use (one copy each, so the
-   outputs an output step computes are the pass's numbers to the last bit)
+   what depends on the dryness alone, recomputed when it changes from one bead
+   to the next (the laws of cgms_laws.h)
 ------------------------------------------------------------------------- */
 
 namespace {
-// the virtual-cell side b_avg of eqns (10)-(11) of a bead with nn neighbours at a
-// summed centre distance sum_r; b_ref for a bead without neighbours
-inline double cell_side(double nn, double sum_r, double beta, double pectin, double b_ref)
-{
-  if (!(nn > 0.0)) return b_ref;
-  const int n_int = static_cast<int>(nn);
-  const double inv_n = n_int < MAXCOUNT ? INV_SQRT3_N[n_int] : 1.0 / (SQRT3 * nn);
-  const double b_int = (sum_r - nn * pectin) * inv_n;
-  return b_int * (1.0 / 6.0) * (nn + beta * MAX(0.0, 6.0 - nn));
-}
-
-// what depends on the dryness alone: recomputed when it changes from one bead to the next
 struct DrynessLaws {
   double s = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
   double kS = 0.0;    // cell-shape stiffness k_S(s)
@@ -98,75 +67,24 @@ struct DrynessLaws {
     inv_rho_ref = 1.0 / (s * mat.rho0);
     P_ref = s * mat.P_f;
     Pi = s * mat.Pi_f;
-    ld_factor = 1.0 - mat.perim_a / mat.perim_b * (1.0 - s);
+    ld_factor = mat.perimeter_contraction(s);
     kS = mat.shape_stiffness(s);
   }
   // q^7 = (rho / rho_ref)^7 and the Tait pressure of eqn (4)
-  double q7(double rho) const
-  {
-    const double q = rho * inv_rho_ref;
-    const double q2 = q * q;
-    return q2 * q2 * q2 * q;
-  }
-  double pressure(double q7, double K) const { return P_ref + K * (q7 - 1.0); }
+  double q7(double rho) const { return pow7(rho * inv_rho_ref); }
+  double pressure(double q7, double K) const { return tait_pressure(q7, P_ref, K); }
 };
-
-// the paper's pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2
-inline double pair_coefficient(double kT, double kPA, double P_f, double press, double perim,
-                               double ldeq)
-{
-  return 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
-}
 }    // namespace
 
 /* ----------------------------------------------------------------------
-   the explicit time-step limits of a bead of inertial mass m with nn
-   neighbours, for the forces that are switched on: relative-velocity damping
-   2 m / (1.5 N k_d), turgor 2 / omega with omega^2 = 56 k_T K q^7 / (m sum_gap)
-   (q = rho/rho_ref, sum_gap = sum_k (x_k - d_p)), cell-shape springs
-   sqrt(m / (2 k_S N)), with the fresh k_S, the largest k_S(s) (an upper bound
-   when k_S falls with the dryness). The per-step checks (fluid_pass) use the *_exceeded
-   forms, which compare without a division; f_ID[5] and the errors the limits.
+   the time-step limits (cgms_laws.h) of the forces the pair has switched on
 ------------------------------------------------------------------------- */
 
-namespace {
-struct StepLimits {
-  double kd, kT, K, kS;
-  double kd_dt, turgor_dt2, shape_dt2;    // at the time step dt
-
-  StepLimits(const PairCGMS &pair, double dt) :
-      kd(pair.damping ? pair.material().k_d : 0.0), kT(pair.turgor ? pair.material().k_T : 0.0),
-      K(pair.material().K), kS(pair.material().k_S), kd_dt(1.5 * kd * dt),
-      turgor_dt2(56.0 * kT * K * dt * dt), shape_dt2(2.0 * kS * dt * dt)
-  {
-  }
-
-  bool damping_exceeded(double m, double nn) const { return kd_dt * nn > 2.0 * m; }
-  // (omega dt)^2 > bound
-  bool turgor_suspect(double q7, double m, double sum_gap, double bound) const
-  {
-    return turgor_dt2 * q7 > bound * m * sum_gap;
-  }
-  bool shape_exceeded(double m, double nn) const { return shape_dt2 * nn > m; }
-
-  double damping(double m, double nn) const { return 2.0 * m / (1.5 * nn * kd); }
-  double turgor_omega2(double q7, double m, double sum_gap) const
-  {
-    return 56.0 * kT * K * q7 / (m * sum_gap);
-  }
-  double shape(double m, double nn) const { return sqrt(m / (2.0 * kS * nn)); }
-
-  // the smallest of the limits that apply (HUGE_VAL: none)
-  double smallest(double m, double nn, double q7, double sum_gap) const
-  {
-    double limit = HUGE_VAL;
-    if (kd > 0.0) limit = MIN(limit, damping(m, nn));
-    if (kT > 0.0) limit = MIN(limit, 2.0 / sqrt(turgor_omega2(q7, m, sum_gap)));
-    if (kS > 0.0) limit = MIN(limit, shape(m, nn));
-    return limit;
-  }
-};
-}    // namespace
+StepLimits FixCGMSFluid::step_limits() const
+{
+  const Material &mat = pair->material();
+  return {pair->damping ? mat.k_d : 0.0, pair->turgor ? mat.k_T : 0.0, mat.K, mat.k_S, update->dt};
+}
 
 /* ----------------------------------------------------------------------
    a keyword with two values: 0 for the first, 1 for the second (the error
@@ -278,7 +196,7 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = NOUTPUTS;
   peratom_freq = output_every > 0 ? output_every : 1;
   comm_forward = 1;
-  comm_reverse = 2;
+  comm_reverse = NSUMS;
   wd_section = 1;          // the fluid state travels with write_data
   create_attribute = 1;    // set_arrays() learns of beads created during a run
 
@@ -323,29 +241,14 @@ int FixCGMSFluid::setmask()
   return PRE_FORCE | MIN_PRE_FORCE;
 }
 
-/* ----------------------------------------------------------------------
-   a minimizer may end on a tissue folded onto itself: beads inside each other's
-   second shell. The dynamics stops there (the damping check of stop_if_unstable);
-   a minimizer has no such limit and would hand the state on as a steady state.
-------------------------------------------------------------------------- */
+/* ---------------------------------------------------------------------- */
 
 void FixCGMSFluid::post_run()
 {
   // between runs the per-atom array holds the last step's outputs, and any step
   // is compatible with it (write_dump, variables); the next run sets it again
   peratom_freq = output_every > 0 ? output_every : 1;
-  if (update->whichflag != 2 || !sums) return;
-  double most_local = 0.0, most = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) most_local = MAX(most_local, sums[2 * i]);
-  MPI_Allreduce(&most_local, &most, 1, MPI_DOUBLE, MPI_MAX, world);
-  // a hexagonal tissue has 6 neighbours and 12 within its second shell
-  if (most > 12.0 && comm->me == 0)
-    error->warning(FLERR,
-                   "Fix cgms/fluid: minimize ended on a tissue folded onto itself: a bead has "
-                   "{:g} neighbours within the cutoff, where a hexagonal tissue has 6. This is "
-                   "no steady state of a tissue; a cell-shape stiffness (k_S, doc/pair_cgms.rst) "
-                   "or a stiffer perimeter law (k_PA) may prevent it",
-                   most);
+  if (update->whichflag == 2 && sums) warn_if_folded();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -383,39 +286,6 @@ void FixCGMSFluid::init()
 }
 
 /* ----------------------------------------------------------------------
-   LAMMPS's default largest move per minimizer step, dmax = 0.1, is meant for
-   Angstroms; in SI units it is 0.1 m, a whole tissue, and the first line
-   search throws the beads apart. A dmax above one cell is never meant for
-   CGMS: bound it to 1 % of the lattice spacing (min_modify dmax sets it).
-------------------------------------------------------------------------- */
-
-namespace {
-struct MinDmax : public LAMMPS_NS::Min {
-  // Min::dmax is protected and has no accessor; a member pointer of a derived
-  // class may read it
-  static double get(LAMMPS_NS::Min *min) { return min->*(&MinDmax::dmax); }
-};
-}    // namespace
-
-void FixCGMSFluid::limit_minimizer_step()
-{
-  if (!update->minimize || !pair) return;
-  const double x_ref = pair->material().x_ref;
-  const double dmax = MinDmax::get(update->minimize);
-  if (dmax <= x_ref) return;
-  std::string value = fmt::format("{:.3g}", 0.01 * x_ref);
-  char key[] = "dmax";
-  char *args[2] = {key, value.data()};
-  update->minimize->modify_params(2, args);
-  if (comm->me == 0)
-    error->warning(FLERR,
-                   "Fix cgms/fluid: min_modify dmax {:g} m is larger than a cell (x_ref = {:.3g} "
-                   "m; LAMMPS's default 0.1 is meant for Angstroms); minimizing with dmax {} m "
-                   "(set min_modify dmax ~1e-6 to choose it yourself)",
-                   dmax, x_ref, value);
-}
-
-/* ----------------------------------------------------------------------
    index of the equal- or atom-style variable a keyword names, -1 for none
 ------------------------------------------------------------------------- */
 
@@ -443,10 +313,10 @@ void FixCGMSFluid::init_list(int, NeighList *ptr)
 void FixCGMSFluid::grow_arrays(int nmax)
 {
   const int nold = nmax_outputs;
-  memory->grow(sums, 2 * nmax, "cgms/fluid:sums");
+  memory->grow(sums, nmax, "cgms/fluid:sums");
   memory->grow(outputs, nmax, NOUTPUTS, "cgms/fluid:outputs");
   for (int i = nold; i < nmax; i++) {
-    sums[2 * i] = sums[2 * i + 1] = 0.0;
+    sums[i] = {0.0, 0.0};
     for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
   }
   nmax_outputs = nmax;
@@ -455,23 +325,21 @@ void FixCGMSFluid::grow_arrays(int nmax)
 
 void FixCGMSFluid::copy_arrays(int i, int j, int)
 {
-  sums[2 * j] = sums[2 * i];
-  sums[2 * j + 1] = sums[2 * i + 1];
+  sums[j] = sums[i];
   for (int k = 0; k < NOUTPUTS; k++) outputs[j][k] = outputs[i][k];
 }
 
 int FixCGMSFluid::pack_exchange(int i, double *buf)
 {
-  buf[0] = sums[2 * i];
-  buf[1] = sums[2 * i + 1];
+  buf[0] = sums[i].count;
+  buf[1] = sums[i].distance;
   for (int k = 0; k < NOUTPUTS; k++) buf[2 + k] = outputs[i][k];
   return NOUTPUTS + 2;
 }
 
 int FixCGMSFluid::unpack_exchange(int nlocal, double *buf)
 {
-  sums[2 * nlocal] = buf[0];
-  sums[2 * nlocal + 1] = buf[1];
+  sums[nlocal] = {buf[0], buf[1]};
   for (int k = 0; k < NOUTPUTS; k++) outputs[nlocal][k] = buf[2 + k];
   return NOUTPUTS + 2;
 }
@@ -484,7 +352,7 @@ int FixCGMSFluid::unpack_exchange(int nlocal, double *buf)
 void FixCGMSFluid::set_arrays(int i)
 {
   beads_added = 1;
-  sums[2 * i] = sums[2 * i + 1] = 0.0;
+  sums[i].count = sums[i].distance = 0.0;
   for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
 }
 
@@ -601,36 +469,6 @@ void FixCGMSFluid::apply_dryness()
 }
 
 /* ----------------------------------------------------------------------
-   the model's dryness laws hold only where they stay positive: the LJ radius
-   r0 (1 + lj_slope ln s) and the periphery factor beta_a + beta_b ln s. Both
-   are monotonic in s, so the extremes of the range decide.
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::check_dryness_range(double s_min, double s_max)
-{
-  const Material &mat = pair->material();
-  for (double s : {s_min, s_max}) {
-    if (!(mat.lj_radius(s) > 0.0))
-      error->all(FLERR,
-                 "Fix cgms/fluid: at dryness {:.6g} the LJ radius r0 (1 + lj_slope ln s) = {:.4g} "
-                 "m is not positive; this material (lj_slope {:g}) needs a dryness above "
-                 "exp(-1/lj_slope) = {:.4g}",
-                 s, mat.lj_radius(s), mat.lj_slope, exp(-1.0 / mat.lj_slope));
-    if (pair->periphery && !(mat.beta(s) > 0.0)) {
-      const std::string lowest = mat.beta_b > 0.0
-          ? fmt::format("needs a dryness above exp(-beta_a/beta_b) = {:.4g}",
-                        exp(-mat.beta_a / mat.beta_b))
-          : std::string("gives no positive beta at this dryness; check beta_a and beta_b");
-      error->all(FLERR,
-                 "Fix cgms/fluid: at dryness {:.6g} the periphery factor beta = beta_a + "
-                 "beta_b ln s = {:.4g} is not positive (boundary cells would get a negative "
-                 "side); this material (beta_a {:g}, beta_b {:g}) {}",
-                 s, mat.beta(s), mat.beta_a, mat.beta_b, lowest);
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
    beads read from a data file or created carry MF0 <= 0: give them the
    reference cell at their dryness (doc/model.md, Reference cell and initial state)
 ------------------------------------------------------------------------- */
@@ -653,12 +491,11 @@ bigint FixCGMSFluid::initialise_beads()
       // the reference cell of doc/model.md, for this bead's cell diameter
       const double d = diameter[i];
       if (!(d > 0.0) && bad < 0) bad = i;
-      const double area_ref = MY_PI * d * d / 4.0;
-      const double l_ref = 6.0 * sqrt(2.0 * area_ref / (3.0 * SQRT3));
-      const double mf0 = mat.rho0 * mat.height * area_ref;
+      const ReferenceCell cell = reference_cell(d, mat.pectin);
+      const double mf0 = mat.rho0 * mat.height * cell.A_ref;
       const double s = c[DRYNESS];
       c[MF0] = mf0;
-      c[L0P] = mat.turgid_ratio * l_ref;
+      c[L0P] = mat.turgid_ratio * cell.l_ref;
       c[MF] = s * mf0;
       c[MS] = mat.solid_ratio * s * mf0;
       c[RHO] = s * mat.rho0;
@@ -723,39 +560,6 @@ bigint FixCGMSFluid::load_data_file_state()
   bigint all = 0;
   MPI_Allreduce(&loaded, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
   return all;
-}
-
-/* ----------------------------------------------------------------------
-   a tissue read from a data file without the fluid state starts fresh at
-   its dryness; if its beads sit much closer than the fresh cells they got,
-   it was most likely dried before and written without the state
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::warn_if_dried(bigint fresh)
-{
-  if (!pair->pair_coefficient_needed() && !transfer) return;    // no geometry computed
-  const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
-  // interior beads (six neighbours or more): their side against the reference side
-  double local[2] = {0.0, 0.0}, global[2];
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (sums[2 * i] < 6.0) continue;
-    const double b_ref = cg[i][L0P] / (6.0 * mat.turgid_ratio);
-    const double beta = pair->periphery ? mat.beta(cg[i][DRYNESS]) : 1.0;
-    local[0] += cell_side(sums[2 * i], sums[2 * i + 1], beta, mat.pectin, mat.b_ref) / b_ref;
-    local[1] += 1.0;
-  }
-  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
-  if (global[1] == 0.0) return;
-  const double ratio = global[0] / global[1];
-  if (ratio < 0.9 && comm->me == 0)
-    error->warning(FLERR,
-                   "Fix cgms/fluid: {} beads start from the fresh reference cell, but the "
-                   "cells are {:.0f} % smaller in side than that cell: if this tissue was dried "
-                   "and written by write_data, its fluid state is lost; read the data file "
-                   "with 'read_data FILE fix {} NULL {}' (files written by write_data with "
-                   "fix cgms/fluid defined carry it)",
-                   fresh, 100.0 * (1.0 - ratio), DATA_FIX, DATA_SECTION);
 }
 
 /* ----------------------------------------------------------------------
@@ -877,11 +681,11 @@ void FixCGMSFluid::geometry_pass()
     memory->create(rdist, rdist_size, "cgms/fluid:rdist");
   }
   // local copies: the loops then keep them in registers
-  double *const sums = this->sums;
+  NeighbourSums *const sums = this->sums;
   double *const rdist = this->rdist;
   bigint k = 0;
   const int nclear = newton_pair ? nall : nlocal;
-  for (int k = 0; k < 2 * nclear; k++) sums[k] = 0.0;
+  for (int i = 0; i < nclear; i++) sums[i] = {0.0, 0.0};
 
   const int inum = list->inum;
   const int *ilist = list->ilist;
@@ -918,16 +722,134 @@ void FixCGMSFluid::geometry_pass()
       n += 1.0;
       sum += r;
       if (newton_pair || j < nlocal) {
-        sums[2 * j] += 1.0;
-        sums[2 * j + 1] += r;
+        sums[j].count += 1.0;
+        sums[j].distance += r;
       }
     }
-    sums[2 * i] += n;
-    sums[2 * i + 1] += sum;
+    sums[i].count += n;
+    sums[i].distance += sum;
   }
   rdist_list = list->firstneigh;
   rdist_valid = 1;
   if (newton_pair) comm->reverse_comm(this);
+}
+
+/* ----------------------------------------------------------------------
+   what the material, the switches and the time step fix for a whole fluid
+   pass, hoisted out of its loop, and the pass's parts for one bead.
+   Divisions are the cost here: quantities that depend only on the dryness are
+   recomputed when it changes from one bead to the next (DrynessLaws), and one
+   reciprocal of the area serves the density and the implicit mass update.
+------------------------------------------------------------------------- */
+
+namespace {
+struct FluidPassConstants {
+  double dt, kT, kPA, kS, P_f, K, pectin, b_ref, height, inv_h, L_p;
+  double conductance;    // membrane area l h times L_p, per l
+  int advance, transfer, implicit, density_rate;
+  // the quasi-static solve: every bead holds the pressure of the steady state
+  int balance;
+};
+
+// the density: under a quasi-static solve the one of P = -Pi (doc/model.md, Steady
+// state), with the fluid mass that fills the current cell with it; else the rate form of
+// eqns (5)-(6) (density rate), or m_f / (h A)
+inline double bead_density(const FluidPassConstants &p, const DrynessLaws &at, double *c,
+                           double area, double inv_area)
+{
+  if (p.balance) {
+    const double rho = tait_density(-at.Pi, at.P_ref, p.K, at.inv_rho_ref);
+    c[MF] = rho * p.height * area;
+    return rho;
+  }
+  if (p.density_rate && c[AREA] > 0.0) {
+    if (!p.advance) return c[RHO];
+    const double inv_area_old = 1.0 / c[AREA];
+    return c[RHO] - c[RHO] * (area - c[AREA]) * inv_area_old +
+        p.dt * c[DMDT] * p.inv_h * inv_area_old;
+  }
+  return c[MF] * p.inv_h * inv_area;
+}
+
+// eqn (7); the implicit scheme divides it by 1 + dt lambda when lambda > 0 (transfer_rate)
+inline double bead_mass_rate(const FluidPassConstants &p, const DrynessLaws &at, double perim,
+                             double inv_area, double rho, double press, double q7)
+{
+  if (!p.transfer || p.balance) return 0.0;
+  double dmdt = mass_rate(perim, p.conductance, rho, press, at.Pi);
+  if (p.implicit) {
+    const double lambda = transfer_rate(p.L_p, perim, inv_area, press, at.Pi, p.K, q7);
+    if (lambda > 0.0) dmdt /= 1.0 + p.dt * lambda;
+  }
+  return dmdt;
+}
+
+// the stability checks of one bead; stop_if_unstable() reports what they found
+struct StabilityScan {
+  StepLimits limits;
+  double dt, pectin;
+  int turgor, shape;
+  // (omega dt)^2 allowed for the turgor force: right after a change of dryness, beads
+  // keep the fluid of the old level against the reference of the new one: a large change
+  // compresses them at once, the pressure spikes, and a step with omega dt > 2 blows up
+  // (s from 1 to 0.5: omega dt 2.7 for a bead with one neighbour). There the strict
+  // explicit limit applies.
+  double turgor_bound;
+
+  void bead(FixCGMSFluid::Trouble &t, int i, double nn, double sum_r, double q7, double press,
+            const double *rmass, const NeighbourSums *sums) const
+  {
+    if (!std::isfinite(press) && t.nonfinite < 0) t.nonfinite = i;
+    // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
+    // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
+    // (reduced mass m/2) that gives omega^2 = 56 k_T K q^7 / (m sum_k (x_k - d_p)), and
+    // the explicit update needs omega dt < 2. The estimate is rough: a squeezed pair at
+    // omega dt = 2.8 relaxes before it can blow up, so the run stops only past 4, which
+    // the blow-ups seen (a pair squeezed to 0.4 x_ref, a dryness jump) reach within a step.
+    // Not under a quasi-static solve: there the pressure does not follow the geometry.
+    if (turgor && nn > 0.0) {
+      // (omega dt)^2 > 16 without a division in the common case
+      const double sum_gap = sum_r - nn * pectin;
+      if (limits.turgor_suspect(q7, rmass[i], sum_gap, turgor_bound)) {
+        const double omega2 = limits.turgor_omega2(q7, rmass[i], sum_gap);
+        const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
+        if (ratio > t.stiff_ratio) {
+          t.stiff = i;
+          t.stiff_ratio = ratio;
+          t.stiff_limit = 2.0 / sqrt(omega2);
+        }
+      }
+    }
+    // the cell-shape term is a spring network of stiffness about 2 k_S per pair: omega^2
+    // up to 8 k_S N / m, so the explicit step needs 2 k_S N dt^2 < m (the largest stable
+    // k_S measured on a fresh 10 x 12 tissue at 1e-7 s lies between 1000 and 1200 N/m;
+    // this gives 970: the damping uses up part of the margin)
+    if (shape && limits.shape_exceeded(rmass[i], nn) &&
+        (t.shaky < 0 || rmass[i] * sums[t.shaky].count < rmass[t.shaky] * nn))
+      t.shaky = i;
+    // damping stability (see damping_limit_error): the smallest m / N fails first
+    if (limits.damping_exceeded(rmass[i], nn) &&
+        (t.unstable < 0 || rmass[i] * sums[t.unstable].count < rmass[t.unstable] * nn))
+      t.unstable = i;
+  }
+};
+}    // namespace
+
+/* ----------------------------------------------------------------------
+   beads without a fluid state (MF0 <= 0) can appear only where beads were
+   created during the run (set_arrays) or the atom count changed: looked for
+   only then, not for every bead in every step. Returns the first, or -1.
+------------------------------------------------------------------------- */
+
+int FixCGMSFluid::bead_without_state()
+{
+  if (!beads_added && atom->natoms == natoms_known) return -1;
+  double **cg = bead_array(lmp);
+  for (int i = 0; i < atom->nlocal; i++)
+    if (cg[i][MF0] <= 0.0) return i;
+  beads_added = 0;
+  natoms_known = atom->natoms;
+  return -1;
 }
 
 /* ----------------------------------------------------------------------
@@ -940,62 +862,44 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
 {
   const Material &mat = pair->material();
   double **cg = bead_array(lmp);
+  double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
 
-  // Divisions are the cost here: constants
-  // are hoisted, quantities that depend only on the dryness are recomputed
-  // when it changes from one bead to the next, and one reciprocal of the
-  // area serves the density and the implicit mass update.
-
-  const double dt = update->dt;
-  const double kT = pair->turgor ? mat.k_T : 0.0;
-  const double kPA = pair->perimeter ? mat.k_PA : 0.0;
-  const double kS = mat.k_S;
-  const double P_f = mat.P_f, K = mat.K, pectin = mat.pectin, b_ref = mat.b_ref;
-  const double inv_h = 1.0 / mat.height;
-  const double conductance = mat.height * mat.L_p;    // membrane area l h times L_p, per l
-  const double L_p = mat.L_p;
+  FluidPassConstants p;
+  p.dt = update->dt;
+  p.kT = pair->turgor ? mat.k_T : 0.0;
+  p.kPA = pair->perimeter ? mat.k_PA : 0.0;
+  p.kS = mat.k_S;
+  p.P_f = mat.P_f;
+  p.K = mat.K;
+  p.pectin = mat.pectin;
+  p.b_ref = mat.b_ref;
+  p.height = mat.height;
+  p.inv_h = 1.0 / mat.height;
+  p.conductance = mat.height * mat.L_p;
+  p.L_p = mat.L_p;
+  p.advance = advance;
+  p.transfer = transfer;
+  p.implicit = transfer_implicit;
+  p.density_rate = density_rate;
+  p.balance = always_balance || (minimize_balance && update->whichflag == 2);
   const int advance_mass = advance && transfer;
-  // the quasi-static solve: under minimize every bead holds the pressure of
-  // the steady state, P = -Pi (doc/model.md, Steady state), its density from eqn (4) and the
-  // fluid mass that density fills its current cell with
-  const int balance = always_balance || (minimize_balance && update->whichflag == 2);
-  double *rmass = atom->rmass;
-  const int turgor_check = kT > 0.0 && !balance;
-  // right after a change of dryness, beads keep the fluid of the old level against the
-  // reference of the new one: a large change compresses them at once, the pressure
-  // spikes, and a step with omega dt > 2 blows up (s from 1 to 0.5: omega dt 2.7 for a
-  // bead with one neighbour). There the strict explicit limit applies (see below).
-  const double turgor_bound = dryness_changed ? 4.0 : 16.0;    // (omega dt)^2
-  trouble.after_change = dryness_changed;
-  dryness_changed = 0;
-  // the cell-shape term is a spring network of stiffness about 2 k_S per pair: omega^2
-  // up to 8 k_S N / m, so the explicit step needs 2 k_S N dt^2 < m (the largest stable
-  // k_S measured on a fresh 10 x 12 tissue at 1e-7 s lies between 1000 and 1200 N/m;
-  // this gives 970: the damping uses up part of the margin)
-  const int shape_check = kS > 0.0 && !balance;
   // its energy is needed only where LAMMPS tallies energies (a second walk over the list)
-  const int shape_energy = kS > 0.0 && (balance || update->eflag_global == update->ntimestep);
-  const StepLimits limits(*pair, dt);
-  // found beads in locals (registers) during the loop, into trouble after it
-  int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
-  double stiff_ratio = 0.0, stiff_limit = 0.0;
-  const double *const sums = this->sums;
+  const int shape_energy = p.kS > 0.0 && (p.balance || update->eflag_global == update->ntimestep);
+  StabilityScan scan{step_limits(), p.dt, p.pectin, 0, 0, 0.0};
+  scan.turgor = p.kT > 0.0 && !p.balance;
+  scan.shape = p.kS > 0.0 && !p.balance;
+  scan.turgor_bound = dryness_changed ? 4.0 : 16.0;
+
+  trouble.fresh = bead_without_state();
+  if (trouble.fresh >= 0) return;
+  // found beads in a local during the loop, into trouble after it
+  Trouble found;
+  found.after_change = dryness_changed;
+  dryness_changed = 0;
+  const NeighbourSums *const sums = this->sums;
   double *const coef = this->coef;
-
-  // beads without a fluid state (MF0 <= 0) can appear only where beads were created
-  // during the run (set_arrays) or the atom count changed: looked for only then, not
-  // for every bead in every step
-  if (beads_added || atom->natoms != natoms_known) {
-    for (int i = 0; i < nlocal; i++)
-      if (cg[i][MF0] <= 0.0) {
-        trouble.fresh = i;
-        return;
-      }
-    beads_added = 0;
-    natoms_known = atom->natoms;
-  }
-
+  double energy = 0.0;
   DrynessLaws at;
   const int periphery = pair->periphery;
   for (int i = 0; i < nlocal; i++) {
@@ -1003,366 +907,50 @@ void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
 
     // mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
     if (advance_mass) {
-      c[MF] += dt * c[DMDT];
-      if (!(c[MF] > 0.0) && emptied < 0) emptied = i;
+      c[MF] += p.dt * c[DMDT];
+      if (!(c[MF] > 0.0) && found.emptied < 0) found.emptied = i;
       if (inertia_fluid) rmass[i] = c[MF] + c[MS];
     }
 
-    const double s = c[DRYNESS];
-    if (s != at.s) at.set(s, mat, periphery);
-    const double beta = at.beta, inv_rho_ref = at.inv_rho_ref, P_ref = at.P_ref, Pi = at.Pi;
-
-    const double nn = sums[2 * i];
-    if (!(nn > 0.0) && !allow_isolated && isolated < 0) isolated = i;
-    const double b = cell_side(nn, sums[2 * i + 1], beta, pectin, b_ref);
+    if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, periphery);
+    const double nn = sums[i].count;
+    const double sum_r = sums[i].distance;
+    if (!(nn > 0.0) && !allow_isolated && found.isolated < 0) found.isolated = i;
+    const double b = cell_side(nn, sum_r, at.beta, p.pectin, p.b_ref);
     const double area = HEX_AREA * b * b;
     const double inv_area = 1.0 / area;
     const double perim = 6.0 * b;
-
-    double rho;
-    if (balance) {
-      const double q7_balance = 1.0 + (-Pi - P_ref) / K;
-      rho = pow(q7_balance, 1.0 / 7.0) / inv_rho_ref;
-      c[MF] = rho * mat.height * area;
-    } else if (density_rate && c[AREA] > 0.0) {
-      if (advance) {
-        const double inv_area_old = 1.0 / c[AREA];
-        rho =
-            c[RHO] - c[RHO] * (area - c[AREA]) * inv_area_old + dt * c[DMDT] * inv_h * inv_area_old;
-      } else {
-        rho = c[RHO];
-      }
-    } else {
-      rho = c[MF] * inv_h * inv_area;
-    }
-
+    const double rho = bead_density(p, at, c, area, inv_area);
     const double q7 = at.q7(rho);
-    const double press = at.pressure(q7, K);
+    const double press = at.pressure(q7, p.K);
     const double ldeq = c[L0P] * at.ld_factor;
-
-    // eqn (7), and for the implicit scheme divided by 1 + dt lambda with
-    // lambda = -d(dm_f/dt)/dm_f = L_p (l/A) (P + Pi + 7 K q^7) when positive
-    // (d rho/d m_f = rho/m_f at fixed geometry, dP/d rho = 7 K q^6 / rho_ref)
-    double dmdt = 0.0;
-    if (transfer && !balance) {
-      dmdt = -perim * conductance * rho * (press + Pi);
-      if (transfer_implicit) {
-        const double lambda = L_p * perim * inv_area * (press + Pi + 7.0 * K * q7);
-        if (lambda > 0.0) dmdt /= 1.0 + dt * lambda;
-      }
-    }
 
     // the state row only (one cache line); the outputs (N, side, perimeter,
     // pressure, l_d, the coefficient) are derived from it and the sums when an
     // output asks (for_each_output)
+    c[DMDT] = bead_mass_rate(p, at, perim, inv_area, rho, press, q7);
     c[AREA] = area;
     c[RHO] = rho;
-    c[DMDT] = dmdt;
-    coef[i] = pair_coefficient(kT, kPA, P_f, press, perim, ldeq);
+    coef[i] = pair_coefficient(p.kT, p.kPA, p.P_f, press, perim, ldeq);
     // the cell-shape term's share of bead i, k_S xbar_i (xbar_i = sum_k x_ik / N);
     // the per-atom output keeps the paper's turgor and perimeter coefficient
-    if (kS > 0.0 && nn > 0.0) coef[i] += at.kS * sums[2 * i + 1] / nn;
-    // with the pressures held, turgor and perimeter forces are the gradient of
-    //   E_i = -k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i),
-    // g_i = dl_i/dx_ik = (N + beta max(0, 6 - N)) / (sqrt(3) N), as long as no
-    // neighbour crosses the cutoff: so minimize can do line searches on them.
-    if (balance && nn > 0.0) {
-      const double dl_dx = (nn + beta * MAX(0.0, 6.0 - nn)) / (SQRT3 * nn);
-      const double excess = perim - ldeq;
-      energy_local +=
-          -0.5 * kT * (press - P_f) * sums[2 * i + 1] + 0.25 * kPA * excess * excess / dl_dx;
-    }
+    if (p.kS > 0.0 && nn > 0.0) coef[i] += at.kS * sum_r / nn;
+    // with the pressures held, turgor and perimeter forces are the gradient of the
+    // quasi-static potential, as long as no neighbour crosses the cutoff: so minimize
+    // can do line searches on them
+    if (p.balance && nn > 0.0)
+      energy += quasi_static_energy(p.kT, p.kPA, p.P_f, press, sum_r, perim, ldeq,
+                                    perimeter_gradient(nn, at.beta));
     // The cell-shape energy k_S(s_i)/2 sum_k (x_ik - xbar_i)^2 does not depend on the
     // pressures: it is a potential in any run. Its -k_S(s_i)/2 N xbar_i^2 here, its
     // sum over pairs of (k_S(s_i) + k_S(s_k))/2 x^2 in shape_pair_energy()
-    if (shape_energy && nn > 0.0)
-      energy_local -= 0.5 * at.kS * sums[2 * i + 1] * sums[2 * i + 1] / nn;
-    if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
-    // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
-    // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
-    // (reduced mass m/2) that gives omega^2 = 56 k_T K q^7 / (m sum_k (x_k - d_p)), and
-    // the explicit update needs omega dt < 2. The estimate is rough: a squeezed pair at
-    // omega dt = 2.8 relaxes before it can blow up, so the run stops only past 4, which
-    // the blow-ups seen (a pair squeezed to 0.4 x_ref, a dryness jump) reach within a step.
-    // Not under a quasi-static solve: there the pressure does not follow the geometry.
-    if (turgor_check && nn > 0.0) {
-      // (omega dt)^2 > 16 without a division in the common case
-      const double sum_gap = sums[2 * i + 1] - nn * pectin;
-      if (limits.turgor_suspect(q7, rmass[i], sum_gap, turgor_bound)) {
-        const double omega2 = limits.turgor_omega2(q7, rmass[i], sum_gap);
-        const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
-        if (ratio > stiff_ratio) {
-          stiff = i;
-          stiff_ratio = ratio;
-          stiff_limit = 2.0 / sqrt(omega2);
-        }
-      }
-    }
-    if (shape_check && limits.shape_exceeded(rmass[i], nn) &&
-        (shaky < 0 || rmass[i] * sums[2 * shaky] < rmass[shaky] * nn))
-      shaky = i;
-    // damping stability (see damping_limit_error): the smallest m / N fails first
-    if (limits.damping_exceeded(rmass[i], nn) &&
-        (unstable < 0 || rmass[i] * sums[2 * unstable] < rmass[unstable] * nn))
-      unstable = i;
+    if (shape_energy && nn > 0.0) energy -= 0.5 * at.kS * sum_r * sum_r / nn;
+    scan.bead(found, i, nn, sum_r, q7, press, rmass, sums);
   }
 
+  energy_local += energy;
   if (shape_energy) energy_local += shape_pair_energy();
-
-  trouble.isolated = isolated;
-  trouble.nonfinite = nonfinite;
-  trouble.emptied = emptied;
-  trouble.unstable = unstable;
-  trouble.stiff = stiff;
-  trouble.shaky = shaky;
-  trouble.stiff_ratio = stiff_ratio;
-  trouble.stiff_limit = stiff_limit;
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixCGMSFluid::stop_if_unstable(const Trouble &t)
-{
-  const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
-  const double *rmass = atom->rmass;
-  const double dt = update->dt;
-  const int fresh = t.fresh, emptied = t.emptied, isolated = t.isolated;
-  const int nonfinite = t.nonfinite, unstable = t.unstable, shaky = t.shaky, stiff = t.stiff;
-
-  if (fresh >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} appeared during the run at step {} (e.g. from fix "
-               "deposit or fix pour) and has no fluid state: CGMS gives beads their state at "
-               "setup; add beads between runs (create_atoms, then run)",
-               atom->tag[fresh], update->ntimestep);
-
-  if (emptied >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
-               "unstable; reduce the time step (now {:.6g} s)",
-               atom->tag[emptied], cg[emptied][MF], update->ntimestep, dt);
-  if (isolated >= 0) isolated_error(isolated);
-  if (nonfinite >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has a non-finite pressure at step {}: the simulation "
-               "became unstable; reduce the time step (now {:.6g} s)",
-               atom->tag[nonfinite], update->ntimestep, dt);
-  if (unstable >= 0) damping_limit_error(unstable);
-  if (shaky >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the cell-shape "
-               "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
-               "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
-               dt, mat.k_S, update->ntimestep,
-               StepLimits(*pair, dt).shape(rmass[shaky], sums[2 * shaky]), atom->tag[shaky],
-               rmass[shaky], sums[2 * shaky]);
-  if (stiff >= 0 && t.after_change)
-    error->one(FLERR,
-               "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
-               "times its new reference density, and its turgor force is then above the "
-               "stability limit, about {:.4g} s = 2 / omega (omega dt = {:.3g} at dt = {:.4g} "
-               "s): change the dryness in smaller steps (e.g. a ramp with 'every'; when the "
-               "dryness comes from fix cgms/transport, a shorter moisture step: its keywords "
-               "dt or adapt), or use a smaller timestep",
-               update->ntimestep, atom->tag[stiff],
-               cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0), t.stiff_limit,
-               2.0 * sqrt(t.stiff_ratio), dt);
-  if (stiff >= 0)
-    error->one(
-        FLERR,
-        "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the turgor "
-        "force at step {}, about {:.4g} s = 2 / omega (omega dt = {:.3g}) for bead {}, whose "
-        "fluid is compressed to {:.4g} times its reference density: use a smaller "
-        "timestep",
-        dt, update->ntimestep, t.stiff_limit, 2.0 * sqrt(t.stiff_ratio), atom->tag[stiff],
-        cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0));
-}
-
-/* ----------------------------------------------------------------------
-   positions and velocities come from the user (data file, set, velocity):
-   a non-finite one would surface later as a pressure or time-step error
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::check_setup_input()
-{
-  double **x = atom->x;
-  double **v = atom->v;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    for (int d = 0; d < 2; d++) {
-      if (!std::isfinite(x[i][d]))
-        error->one(FLERR, "Fix cgms/fluid: bead {} has a non-finite position ({} = {}) at setup",
-                   atom->tag[i], d ? "y" : "x", x[i][d]);
-      if (!std::isfinite(v[i][d]))
-        error->one(FLERR,
-                   "Fix cgms/fluid: bead {} has a non-finite velocity (v{} = {}) at setup; "
-                   "check the data file's Velocities section and any set or velocity command",
-                   atom->tag[i], d ? "y" : "x", v[i][d]);
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
-   what a user's tissue can get wrong from the start, seen at setup where it
-   can be named: two beads closer than the pectin layer (their cell side
-   would be negative), and far more neighbours than a hexagonal tissue has
-   (the cutoff or the spacing does not fit the material)
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::check_setup_geometry()
-{
-  const Material &mat = pair->material();
-  double **x = atom->x;
-  const tagint *tag = atom->tag;
-  const int nlocal = atom->nlocal;
-
-  // the closest pair of this rank's list
-  double closest = HUGE_VAL;
-  int ci = -1, cj = -1;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    const int *jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double dx = x[i][0] - x[j][0];
-      const double dy = x[i][1] - x[j][1];
-      const double rsq = dx * dx + dy * dy;
-      if (rsq < closest) {
-        closest = rsq;
-        ci = i;
-        cj = j;
-      }
-    }
-  }
-  closest = sqrt(closest);
-  // a hexagonal tissue has 6 neighbours and 12 within its second shell
-  int crowded = -1;
-  for (int i = 0; i < nlocal; i++)
-    if (sums[2 * i] > 12.0 && (crowded < 0 || sums[2 * i] > sums[2 * crowded])) crowded = i;
-  if (crowded >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff at setup, "
-               "where a hexagonal tissue has 6: the cutoff ({:.4g} m) does not fit the bead "
-               "spacing of this tissue (nearest beads {:.4g} m apart here; the material's "
-               "lattice spacing x_ref = sqrt(3) b_ref + d_p = {:.4g} m). Check pair_style "
-               "cutoff, the material's diameter and pectin, and the data file's units",
-               tag[crowded], sums[2 * crowded], pair->cutoff(), closest, mat.x_ref);
-
-  if (closest <= mat.pectin)
-    error->one(FLERR,
-               "Fix cgms/fluid: beads {} and {} are {:.4g} m apart at setup, {} the pectin "
-               "layer d_p = {:.4g} m that separates two cells (lattice spacing x_ref = {:.4g} "
-               "m): check the data file for overlapping or duplicated beads",
-               tag[ci], tag[cj], closest,
-               closest == 0.0 ? "at the same position, inside" : "closer than", mat.pectin,
-               mat.x_ref);
-}
-
-/* ----------------------------------------------------------------------
-   a bead without neighbours: say how far its nearest bead is, and whether
-   the dryness-scaled cutoff shrank below the spacing (low dryness)
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::isolated_error(int i)
-{
-  const Material &mat = pair->material();
-  double **x = atom->x;
-  const double s = bead_array(lmp)[i][DRYNESS];
-  double nearest = HUGE_VAL;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int a = list->ilist[ii];
-    const int *jlist = list->firstneigh[a];
-    for (int jj = 0; jj < list->numneigh[a]; jj++) {
-      const int b = jlist[jj] & NEIGHMASK;
-      if (a != i && b != i) continue;
-      const double dx = x[a][0] - x[b][0];
-      const double dy = x[a][1] - x[b][1];
-      nearest = MIN(nearest, sqrt(dx * dx + dy * dy));
-    }
-  }
-  const std::string where = nearest < HUGE_VAL
-      ? fmt::format("its nearest bead is {:.4g} m away", nearest)
-      : std::string("no bead lies within the cutoff plus the neighbor skin");
-  std::string why;
-  const double rad = mat.lj_radius(s);
-  const double cut = sqrt(pair->pair_cutsq(rad));
-  // a scaled cutoff that has shrunk to about the fresh spacing (jittered tissues
-  // have neighbours up to 15 % beyond x_ref)
-  if (pair->cutoff_scaled() && cut < 1.15 * mat.x_ref) {
-    // a fresh tissue (spacing x_ref) keeps its neighbours while cut(s) > x_ref
-    const double fresh_lowest =
-        exp((mat.x_ref / sqrt(pair->pair_cutsq(mat.r0)) - 1.0) / mat.lj_slope);
-    why = fmt::format(
-        "; at dryness {:.4g} the cutoff is {:.4g} m (cutoff/lj times the LJ radius r0 (1 + "
-        "lj_slope ln s) = {:.4g} m), which shrinks with the dryness faster than a tissue "
-        "that has not dried yet (a fresh tissue keeps its neighbours down to a dryness of "
-        "about {:.3g}): start from a tissue dried closer to this level, or lower the dryness "
-        "gradually (a variable ramp with 'every')",
-        s, cut, rad, fresh_lowest);
-  } else if (update->whichflag == 2) {
-    why = fmt::format("; the minimizer moved it away from the tissue (cutoff {:.4g} m): use "
-                      "min_style fire or cg with min_modify dmax ~1e-6, which move beads in "
-                      "small steps",
-                      cut);
-  }
-  error->one(FLERR,
-             "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use 'isolated "
-             "allow' to give isolated beads the reference cell) at step {}: {}{}",
-             atom->tag[i], update->ntimestep, where, why);
-}
-
-/* ----------------------------------------------------------------------
-   the relative-velocity damping is explicit: stable while
-   k_d lambda_max dt / m < 2, lambda_max the largest eigenvalue of the bead
-   graph's Laplacian. It is 9 for the hexagonal lattice (N = 6); the check
-   uses 1.5 N_i per bead, which is that value and grows with denser
-   neighbourhoods. (doc/model.md, Time integration: s = 0.3 with the paper's inertia explodes at
-   dt = 5e-8 s and runs at 3e-8 s; this gives 3.9e-8 s at the start.)
-   Checked at setup and, since masses and neighbour counts change, every step.
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::damping_limit_error(int i)
-{
-  const double m = atom->rmass[i];
-  const double nn = sums[2 * i];
-  // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
-  // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
-  // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does;
-  // with k_S(s) it is the dried cells' stiffness, far below k_S, that may be too weak
-  const Material &mat = pair->material();
-  const double kS = mat.k_S;
-  if (nn > 6.0 && update->setupflag)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff ({:.4g} m) "
-               "at setup, more than the 6 of a hexagonal tissue, and the damping is unstable "
-               "with them at dt = {:.4g} s: the cutoff does not fit the bead spacing (material "
-               "lattice spacing x_ref = {:.4g} m); check pair_style cutoff, the material's "
-               "diameter and pectin, and the data file",
-               atom->tag[i], nn, pair->cutoff(), update->dt, pair->material().x_ref);
-  if (nn > 6.0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has {:g} neighbours within the cutoff at step {}, more "
-               "than the 6 of a hexagonal tissue: the tissue is collapsing (beads crowding "
-               "past the weak LJ repulsion), and the damping is unstable at dt = {:.4g} s; a "
-               "smaller time step does not cure this. The paper's forces do not resist shear; "
-               "{} prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)",
-               atom->tag[i], nn, update->ntimestep, update->dt,
-               kS > 0.0 && mat.k_S_exponent != 0.0
-                   ? fmt::format("a larger cell-shape stiffness of the dried cells, k_S(s) = "
-                                 "max(k_S s^n, k_S_floor) with k_S = {:g} N/m, n = {:g}, "
-                                 "k_S_floor = {:g} N/m, may",
-                                 kS, mat.k_S_exponent, mat.k_S_floor)
-                   : kS > 0.0
-                   ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
-                   : std::string("a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
-                                 "line) may"));
-  error->one(FLERR,
-             "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
-             "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
-             "use a smaller timestep{}",
-             update->dt, update->ntimestep, StepLimits(*pair, update->dt).damping(m, nn),
-             atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
+  trouble = found;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -1438,16 +1026,15 @@ void FixCGMSFluid::refresh_vector()
 
   // the explicit stability limits of the fluid pass (damping, turgor, cell shape),
   // from the neighbour sums of the last geometry pass; reduced as rates 1/dt^2
-  const StepLimits limits(*pair, update->dt);
+  const StepLimits limits = step_limits();
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   for_each_output([&](int i, const double *out) {
     const double *c = cg[i];
     local_max[0] = MAX(local_max[0], fabs(out[OUT_PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = out[OUT_NNEIGH];
     if (nn > 0.0) {
-      const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
-      const double q7 = q * q * q * q * q * q * q;
-      const double limit = limits.smallest(rmass[i], nn, q7, sums[2 * i + 1] - nn * mat.pectin);
+      const double q7 = pow7(c[RHO] / (c[DRYNESS] * mat.rho0));
+      const double limit = limits.smallest(rmass[i], nn, q7, sums[i].distance - nn * mat.pectin);
       local_max[2] = MAX(local_max[2], 1.0 / (limit * limit));
     }
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
@@ -1527,8 +1114,8 @@ void FixCGMSFluid::for_each_output(const std::function<void(int, const double *)
     if (derived && c[MF0] > 0.0) {
       const Material &mat = pair->material();
       if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, pair->periphery);
-      const double nn = sums[2 * i];
-      const double b = cell_side(nn, sums[2 * i + 1], at.beta, mat.pectin, mat.b_ref);
+      const double nn = sums[i].count;
+      const double b = cell_side(nn, sums[i].distance, at.beta, mat.pectin, mat.b_ref);
       const double perim = 6.0 * b;
       const double press = at.pressure(at.q7(c[RHO]), mat.K);
       const double ldeq = c[L0P] * at.ld_factor;
@@ -1593,14 +1180,17 @@ void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
 
 int FixCGMSFluid::pack_reverse_comm(int n, int first, double *buf)
 {
-  for (int m = 0; m < 2 * n; m++) buf[m] = sums[2 * first + m];
-  return 2 * n;
+  for (int i = 0; i < n; i++) {
+    buf[NSUMS * i] = sums[first + i].count;
+    buf[NSUMS * i + 1] = sums[first + i].distance;
+  }
+  return NSUMS * n;
 }
 
 void FixCGMSFluid::unpack_reverse_comm(int n, int *list, double *buf)
 {
   for (int i = 0; i < n; i++) {
-    sums[2 * list[i]] += buf[2 * i];
-    sums[2 * list[i] + 1] += buf[2 * i + 1];
+    sums[list[i]].count += buf[NSUMS * i];
+    sums[list[i]].distance += buf[NSUMS * i + 1];
   }
 }

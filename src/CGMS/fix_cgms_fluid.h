@@ -8,6 +8,8 @@
 #ifndef LMP_FIX_CGMS_FLUID_H
 #define LMP_FIX_CGMS_FLUID_H
 
+#include "cgms_laws.h"
+#include "cgms_store.h"
 #include "fix.h"
 
 #include <functional>
@@ -64,6 +66,14 @@ class FixCGMSFluid : public Fix {
   int pack_reverse_comm(int, int, double *) override;
   void unpack_reverse_comm(int, int *, double *) override;
 
+  // the beads a fluid pass found beyond a limit (-1: none), first of each kind
+  struct Trouble {
+    int fresh = -1, emptied = -1, isolated = -1, nonfinite = -1, unstable = -1, shaky = -1;
+    int stiff = -1;    // the worst turgor case, with:
+    double stiff_ratio = 0.0, stiff_limit = 0.0;
+    int after_change = 0;    // right after a change of dryness
+  };
+
  private:
   class PairCGMS *pair;
   class NeighList *list;
@@ -93,7 +103,7 @@ class FixCGMSFluid : public Fix {
   int nmax_bead;    // length of coef
   // geometry pass: neighbour count and sum of distances (2 per bead, local and
   // ghost; per-atom, they travel with the beads: outputs derive from them)
-  double *sums;
+  CGMS::NeighbourSums *sums;
   // the per-atom output array f_ID[1-14] (CGMS::Output columns), filled from
   // the state and the sums on the steps an output may read it (output_step)
   double **outputs;
@@ -125,18 +135,13 @@ class FixCGMSFluid : public Fix {
   bigint load_data_file_state();
   bigint initialise_beads();
   void warn_if_dried(bigint);
-  // the beads a fluid pass found beyond a limit (-1: none), first of each kind
-  struct Trouble {
-    int fresh = -1, emptied = -1, isolated = -1, nonfinite = -1, unstable = -1, shaky = -1;
-    int stiff = -1;    // the worst turgor case, with:
-    double stiff_ratio = 0.0, stiff_limit = 0.0;
-    int after_change = 0;    // right after a change of dryness
-  };
-
   void update_fluid_state(int advance);
   void geometry_pass();
+  int bead_without_state();
   void fluid_pass(int advance, Trouble &);
   void stop_if_unstable(const Trouble &);
+  void warn_if_folded();
+  CGMS::StepLimits step_limits() const;
   void damping_limit_error(int);
   void limit_minimizer_step();
   void check_dryness_range(double, double);
