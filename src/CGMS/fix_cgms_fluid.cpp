@@ -35,58 +35,6 @@ using namespace FixConst;
 using namespace CGMS;
 
 /* ----------------------------------------------------------------------
-   entries a neighbour list holds since its last build: each thread's page
-   counts what it stored and every build resets it (a copy list shares its
-   parent's pages); a list without pages is counted bead by bead
-------------------------------------------------------------------------- */
-
-static bigint list_entries(const NeighList *list, int nthreads)
-{
-  bigint n = 0;
-  if (list->ipage) {
-    for (int t = 0; t < nthreads; t++) n += list->ipage[t].ndatum;
-  } else {
-    for (int ii = 0; ii < list->inum; ii++) n += list->numneigh[list->ilist[ii]];
-  }
-  return n;
-}
-/* ----------------------------------------------------------------------
-   what depends on the dryness alone, recomputed when it changes from one bead
-   to the next (the laws of cgms_laws.h)
-------------------------------------------------------------------------- */
-
-namespace {
-struct DrynessLaws {
-  double s = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
-  double kS = 0.0;    // cell-shape stiffness k_S(s)
-
-  void set(double s_new, const Material &mat, int periphery)
-  {
-    s = s_new;
-    beta = periphery ? mat.beta(s) : 1.0;
-    inv_rho_ref = 1.0 / (s * mat.rho0);
-    P_ref = s * mat.P_f;
-    Pi = s * mat.Pi_f;
-    ld_factor = mat.perimeter_contraction(s);
-    kS = mat.shape_stiffness(s);
-  }
-  // q^7 = (rho / rho_ref)^7 and the Tait pressure of eqn (4)
-  double q7(double rho) const { return pow7(rho * inv_rho_ref); }
-  double pressure(double q7, double K) const { return tait_pressure(q7, P_ref, K); }
-};
-}    // namespace
-
-/* ----------------------------------------------------------------------
-   the time-step limits (cgms_laws.h) of the forces the pair has switched on
-------------------------------------------------------------------------- */
-
-StepLimits FixCGMSFluid::step_limits() const
-{
-  const Material &mat = pair->material();
-  return {pair->damping ? mat.k_d : 0.0, pair->turgor ? mat.k_T : 0.0, mat.K, mat.k_S, update->dt};
-}
-
-/* ----------------------------------------------------------------------
    a keyword with two values: 0 for the first, 1 for the second (the error
    lists them in this order)
 ------------------------------------------------------------------------- */
@@ -107,11 +55,10 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
-    transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr), nmax_bead(0),
-    sums(nullptr), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1),
-    passes_done(0), rdist(nullptr), rdist_size(0), rdist_list(nullptr), rdist_valid(0),
-    comm_column(-1), work(nullptr), nmax_work(0), energy_local(0.0), vector_step(-1), setup_done(0)
+    transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0), beads_added(0),
+    natoms_known(-1), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1),
+    comm_column(DRYNESS), work(nullptr), nmax_work(0), setup_fresh(0), setup_loaded(0),
+    vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -186,21 +133,21 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   size_vector = 5;
   global_freq = 1;
   extvector = 0;
-  // the potential of the quasi-static problem (see update_fluid_state); counted in the
-  // potential energy by default, as minimize needs it for its line search
+  // the potential of the quasi-static problem, which pair_style cgms computes and counts
+  // in its energy (evdwl, so pe: minimize needs it for its line search); the scalar
+  // reports it. energy_global_flag keeps 'fix_modify ID energy' valid (see init).
   scalar_flag = 1;
   extscalar = 1;
   energy_global_flag = 1;
-  thermo_energy = 1;
+  thermo_energy = 0;
   peratom_flag = 1;
   size_peratom_cols = NOUTPUTS;
   peratom_freq = output_every > 0 ? output_every : 1;
-  comm_forward = 1;
-  comm_reverse = NSUMS;
+  comm_forward = 1;        // the dryness of the ghosts
   wd_section = 1;          // the fluid state travels with write_data
   create_attribute = 1;    // set_arrays() learns of beads created during a run
 
-  maxexchange = NOUTPUTS + 2;
+  maxexchange = NOUTPUTS;
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
 }
@@ -213,32 +160,21 @@ FixCGMSFluid::~FixCGMSFluid()
   delete[] dryness_var;
   delete[] diameter_var;
   memory->destroy(work);
-  memory->destroy(coef);
-  memory->destroy(sums);
   memory->destroy(outputs);
-  memory->destroy(rdist);
-}
-
-/* ---------------------------------------------------------------------- */
-
-const double *FixCGMSFluid::distances_for(const NeighList *l) const
-{
-  return rdist_valid && rdist_list == l->firstneigh ? rdist : nullptr;
 }
 
 /* ---------------------------------------------------------------------- */
 
 double FixCGMSFluid::memory_usage()
 {
-  return sizeof(double) *
-      (nmax_bead + (2.0 + NOUTPUTS) * atom->nmax + (double) rdist_size + nmax_work);
+  return sizeof(double) * ((double) NOUTPUTS * atom->nmax + nmax_work);
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixCGMSFluid::setmask()
 {
-  return PRE_FORCE | MIN_PRE_FORCE;
+  return PRE_FORCE | MIN_PRE_FORCE | POST_FORCE | MIN_POST_FORCE;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -248,7 +184,7 @@ void FixCGMSFluid::post_run()
   // between runs the per-atom array holds the last step's outputs, and any step
   // is compatible with it (write_dump, variables); the next run sets it again
   peratom_freq = output_every > 0 ? output_every : 1;
-  if (update->whichflag == 2 && sums) warn_if_folded();
+  if (update->whichflag == 2 && neighbour_sums(lmp)) warn_if_folded();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -281,8 +217,34 @@ void FixCGMSFluid::init()
                update->dt);
   if (update->whichflag == 2) limit_minimizer_step();
   peratom_freq = init_output_every = output_frequency();
+  pass_options_to_pair();
 
   neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   pair_style cgms computes the fluid state with this fix's settings, and
+   counts the quasi-static energy in its own (evdwl, pe); this fix reports it
+   as its scalar and adds nothing to pe: 'fix_modify ID energy yes' (which
+   once added it here) would count it twice and is dropped with a warning
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::pass_options_to_pair()
+{
+  FluidOptions o;
+  o.density_rate = density_rate;
+  o.transfer = transfer;
+  o.transfer_implicit = transfer_implicit;
+  o.always_balance = always_balance;
+  o.minimize_balance = minimize_balance;
+  o.allow_isolated = allow_isolated;
+  pair->set_fluid_options(o);
+  if (thermo_energy && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/fluid: fix_modify {} energy yes is not needed: pair_style cgms "
+                   "counts the quasi-static energy in pe (evdwl) itself",
+                   id);
+  thermo_energy = 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -313,10 +275,8 @@ void FixCGMSFluid::init_list(int, NeighList *ptr)
 void FixCGMSFluid::grow_arrays(int nmax)
 {
   const int nold = nmax_outputs;
-  memory->grow(sums, nmax, "cgms/fluid:sums");
   memory->grow(outputs, nmax, NOUTPUTS, "cgms/fluid:outputs");
   for (int i = nold; i < nmax; i++) {
-    sums[i] = {0.0, 0.0};
     for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
   }
   nmax_outputs = nmax;
@@ -325,23 +285,19 @@ void FixCGMSFluid::grow_arrays(int nmax)
 
 void FixCGMSFluid::copy_arrays(int i, int j, int)
 {
-  sums[j] = sums[i];
   for (int k = 0; k < NOUTPUTS; k++) outputs[j][k] = outputs[i][k];
 }
 
 int FixCGMSFluid::pack_exchange(int i, double *buf)
 {
-  buf[0] = sums[i].count;
-  buf[1] = sums[i].distance;
-  for (int k = 0; k < NOUTPUTS; k++) buf[2 + k] = outputs[i][k];
-  return NOUTPUTS + 2;
+  for (int k = 0; k < NOUTPUTS; k++) buf[k] = outputs[i][k];
+  return NOUTPUTS;
 }
 
 int FixCGMSFluid::unpack_exchange(int nlocal, double *buf)
 {
-  sums[nlocal] = {buf[0], buf[1]};
-  for (int k = 0; k < NOUTPUTS; k++) outputs[nlocal][k] = buf[2 + k];
-  return NOUTPUTS + 2;
+  for (int k = 0; k < NOUTPUTS; k++) outputs[nlocal][k] = buf[k];
+  return NOUTPUTS;
 }
 
 /* ----------------------------------------------------------------------
@@ -352,7 +308,6 @@ int FixCGMSFluid::unpack_exchange(int nlocal, double *buf)
 void FixCGMSFluid::set_arrays(int i)
 {
   beads_added = 1;
-  sums[i].count = sums[i].distance = 0.0;
   for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
 }
 
@@ -368,15 +323,36 @@ void FixCGMSFluid::setup_pre_force(int)
   peratom_freq = std::gcd(init_output_every, output_frequency());
   vector_step = -1;    // the state may have changed between runs at the same step
   check_setup_input();
-  const bigint loaded = load_data_file_state();
+  setup_loaded = load_data_file_state();
   apply_dryness();
-  const bigint fresh = initialise_beads();
+  setup_fresh = initialise_beads();
   beads_added = 0;
   natoms_known = atom->natoms;
-  update_fluid_state(0);
-  if (fresh > 0 && loaded == 0) warn_if_dried(fresh);
+}
+
+/* ----------------------------------------------------------------------
+   after the pair's passes of the setup: the checks of the user's geometry
+   (before the stability checks, which would blame the time step), then as
+   after every force evaluation
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::setup(int)
+{
+  if (pair->passes_needed()) check_setup_geometry();
+  post_force(0);
+  if (setup_fresh > 0 && setup_loaded == 0) warn_if_dried(setup_fresh);
   setup_done = 1;
 }
+
+void FixCGMSFluid::min_setup(int vflag)
+{
+  setup(vflag);
+}
+
+/* ----------------------------------------------------------------------
+   a time step: the dryness schedule, then the mass transfer of the previous
+   step, before pair_style cgms computes the fluid state from it
+------------------------------------------------------------------------- */
 
 void FixCGMSFluid::pre_force(int)
 {
@@ -384,13 +360,54 @@ void FixCGMSFluid::pre_force(int)
     apply_dryness();
   else
     refresh_ghost_dryness();
-  update_fluid_state(1);
+  const int fresh = bead_without_state();
+  if (fresh >= 0) fresh_bead_error(fresh);
+  if (transfer && pair->passes_needed()) advance_fluid_mass();
 }
 
 void FixCGMSFluid::min_pre_force(int)
 {
   refresh_ghost_dryness();
-  update_fluid_state(0);
+  const int fresh = bead_without_state();
+  if (fresh >= 0) fresh_bead_error(fresh);
+}
+
+/* ----------------------------------------------------------------------
+   after every force evaluation: what the pair's fluid pass found beyond a
+   limit stops the run; the per-atom outputs on the steps that write them
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::post_force(int)
+{
+  if (pair->passes_needed()) stop_if_unstable(pair->trouble());
+  if (output_step()) fill_outputs();
+}
+
+void FixCGMSFluid::min_post_force(int vflag)
+{
+  post_force(vflag);
+}
+
+/* ----------------------------------------------------------------------
+   the mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
+   (doc/model.md, When the mass transfer is applied): at the start of step
+   n+1 rather than at the end of n, so that the state at the end of a step
+   (and so in a restart file) is the one its forces were computed from
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::advance_fluid_mass()
+{
+  double **cg = bead_array(lmp);
+  double *rmass = atom->rmass;
+  const double dt = update->dt;
+  int emptied = -1;
+  for (int i = 0; i < atom->nlocal; i++) {
+    double *c = cg[i];
+    c[MF] += dt * c[DMDT];
+    if (!(c[MF] > 0.0) && emptied < 0) emptied = i;
+    if (inertia_fluid) rmass[i] = c[MF] + c[MS];
+  }
+  if (emptied >= 0) emptied_error(emptied);
 }
 
 /* ----------------------------------------------------------------------
@@ -443,7 +460,7 @@ void FixCGMSFluid::apply_dryness()
     const double *value = per_bead_values(dryness_ivar, dryness_value);
     for (int i = 0; i < nlocal; i++) {
       // a bead that already has a fluid state and gets a new dryness
-      if (cg[i][MF0] > 0.0 && cg[i][DRYNESS] != value[i]) dryness_changed = 1;
+      if (cg[i][MF0] > 0.0 && cg[i][DRYNESS] != value[i]) pair->note_dryness_changed();
       cg[i][DRYNESS] = value[i];
     }
   }
@@ -607,235 +624,6 @@ void FixCGMSFluid::write_data_section(int, FILE *fp, int n, double **buf, int)
 }
 
 /* ----------------------------------------------------------------------
-   geometry (eqns 10-11), density, pressure (eqn 4), l_d (eqn 9), the mass
-   rate (eqn 7) and the pair coefficient, for every local bead.
-   advance = 1 (a time step): first the mass transfer of the previous step,
-   m_f(n+1) = m_f(n) + dt dm_f/dt(n), and one step of the rate form of the
-   density, eqns (5)-(6). advance = 0 (setup, minimize): neither.
-   The mass transfer of step n is applied at the start of step n+1 rather
-   than at its end: the same update, but the state at the end of a step (and
-   so in a restart file) is the one its forces were computed from, so a
-   restarted run recomputes the same forces at setup.
-   transfer/scheme implicit stores dm_f/dt / (1 + dt lambda): a linearised
-   backward Euler step, stable at any dt; the explicit step (the paper's) is
-   unstable once dt lambda > 2, which a bead compressed by a third reaches at
-   dt = 1e-7 s since lambda grows as (rho/rho_ref)^7. Same fixed point.
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::update_fluid_state(int advance)
-{
-  energy_local = 0.0;
-  // with turgor, perimeter and mass transfer all off nothing reads this state
-  if (!pair->pair_coefficient_needed() && !transfer) {
-    if (output_step()) fill_outputs();
-    return;
-  }
-
-  geometry_pass();
-  // before the stability checks, which would blame the time step
-  if (update->setupflag) check_setup_geometry();
-  Trouble trouble;
-  fluid_pass(advance, trouble);
-  stop_if_unstable(trouble);
-  passes_done = 1;
-  if (output_step()) fill_outputs();
-  if (pair->pair_coefficient_needed()) forward(-1);
-}
-
-/* ----------------------------------------------------------------------
-   geometry: neighbour count and sum of centre distances of every bead (the
-   compact sums, summed over ranks with newton on), and the distance of every
-   neighbour-list entry for the pair's force loop
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::geometry_pass()
-{
-  const Material &mat = pair->material();
-  double **x = atom->x;
-  double **cg = bead_array(lmp);
-  const int nlocal = atom->nlocal;
-  const int nall = nlocal + atom->nghost;
-  const int newton_pair = force->newton_pair;
-  const double cut = pair->cutoff();
-  const double cutsq_fixed = cut * cut;
-  const int scaled = pair->cutoff_scaled();
-  const double s_uniform = pair->get_uniform_dryness();
-  const int uniform = s_uniform > 0.0;
-  const double cutsq_uniform = scaled && uniform ? pair->pair_cutsq(mat.lj_radius(s_uniform))
-                                                 : cutsq_fixed;
-  const int per_pair_cutoff = scaled && !uniform;
-
-  if (atom->nmax > nmax_bead) {
-    nmax_bead = atom->nmax;
-    memory->destroy(coef);
-    memory->create(coef, nmax_bead, "cgms/fluid:coef");
-  }
-  // the list's length, read every pass: neighbor->ncalls cannot tell one build from
-  // another (Verlet and Min set it to 0 after their setup build, so the builds of
-  // consecutive runs, e.g. the 'run 0' of every Newton force evaluation, repeat its values)
-  // and a list that grows between runs would overrun rdist
-  const bigint npairs = list_entries(list, comm->nthreads);
-  if (npairs > rdist_size) {
-    rdist_size = npairs + npairs / 4;
-    memory->destroy(rdist);
-    memory->create(rdist, rdist_size, "cgms/fluid:rdist");
-  }
-  // local copies: the loops then keep them in registers
-  NeighbourSums *const sums = this->sums;
-  double *const rdist = this->rdist;
-  bigint k = 0;
-  const int nclear = newton_pair ? nall : nlocal;
-  for (int i = 0; i < nclear; i++) sums[i] = {0.0, 0.0};
-
-  const int inum = list->inum;
-  const int *ilist = list->ilist;
-  const int *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
-  double s_last = -1.0, rad_last = 0.0;
-  for (int ii = 0; ii < inum; ii++) {
-    const int i = ilist[ii];
-    const double xtmp = x[i][0];
-    const double ytmp = x[i][1];
-    // the per-bead row only for a cutoff that varies by pair (a cache line per bead
-    // on large tissues); there one log per change of s, not per bead
-    const double si = per_pair_cutoff ? cg[i][DRYNESS] : 0.0;
-    if (per_pair_cutoff && si != s_last) {
-      s_last = si;
-      rad_last = mat.lj_radius(si);
-    }
-    const double radi = rad_last;
-    const int *jlist = firstneigh[i];
-    const int jnum = numneigh[i];
-    double n = 0.0, sum = 0.0;
-    for (int jj = 0; jj < jnum; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double delx = xtmp - x[j][0];
-      const double dely = ytmp - x[j][1];
-      const double rsq = delx * delx + dely * dely;
-      if (rsq >= (per_pair_cutoff ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi))
-                                  : cutsq_uniform)) {
-        rdist[k++] = 0.0;
-        continue;
-      }
-      const double r = sqrt(rsq);
-      rdist[k++] = r;
-      n += 1.0;
-      sum += r;
-      if (newton_pair || j < nlocal) {
-        sums[j].count += 1.0;
-        sums[j].distance += r;
-      }
-    }
-    sums[i].count += n;
-    sums[i].distance += sum;
-  }
-  rdist_list = list->firstneigh;
-  rdist_valid = 1;
-  if (newton_pair) comm->reverse_comm(this);
-}
-
-/* ----------------------------------------------------------------------
-   what the material, the switches and the time step fix for a whole fluid
-   pass, hoisted out of its loop, and the pass's parts for one bead.
-   Divisions are the cost here: quantities that depend only on the dryness are
-   recomputed when it changes from one bead to the next (DrynessLaws), and one
-   reciprocal of the area serves the density and the implicit mass update.
-------------------------------------------------------------------------- */
-
-namespace {
-struct FluidPassConstants {
-  double dt, kT, kPA, kS, P_f, K, pectin, b_ref, height, inv_h, L_p;
-  double conductance;    // membrane area l h times L_p, per l
-  int advance, transfer, implicit, density_rate;
-  // the quasi-static solve: every bead holds the pressure of the steady state
-  int balance;
-};
-
-// the density: under a quasi-static solve the one of P = -Pi (doc/model.md, Steady
-// state), with the fluid mass that fills the current cell with it; else the rate form of
-// eqns (5)-(6) (density rate), or m_f / (h A)
-inline double bead_density(const FluidPassConstants &p, const DrynessLaws &at, double *c,
-                           double area, double inv_area)
-{
-  if (p.balance) {
-    const double rho = tait_density(-at.Pi, at.P_ref, p.K, at.inv_rho_ref);
-    c[MF] = rho * p.height * area;
-    return rho;
-  }
-  if (p.density_rate && c[AREA] > 0.0) {
-    if (!p.advance) return c[RHO];
-    const double inv_area_old = 1.0 / c[AREA];
-    return c[RHO] - c[RHO] * (area - c[AREA]) * inv_area_old +
-        p.dt * c[DMDT] * p.inv_h * inv_area_old;
-  }
-  return c[MF] * p.inv_h * inv_area;
-}
-
-// eqn (7); the implicit scheme divides it by 1 + dt lambda when lambda > 0 (transfer_rate)
-inline double bead_mass_rate(const FluidPassConstants &p, const DrynessLaws &at, double perim,
-                             double inv_area, double rho, double press, double q7)
-{
-  if (!p.transfer || p.balance) return 0.0;
-  double dmdt = mass_rate(perim, p.conductance, rho, press, at.Pi);
-  if (p.implicit) {
-    const double lambda = transfer_rate(p.L_p, perim, inv_area, press, at.Pi, p.K, q7);
-    if (lambda > 0.0) dmdt /= 1.0 + p.dt * lambda;
-  }
-  return dmdt;
-}
-
-// the stability checks of one bead; stop_if_unstable() reports what they found
-struct StabilityScan {
-  StepLimits limits;
-  double dt, pectin;
-  int turgor, shape;
-  // (omega dt)^2 allowed for the turgor force: right after a change of dryness, beads
-  // keep the fluid of the old level against the reference of the new one: a large change
-  // compresses them at once, the pressure spikes, and a step with omega dt > 2 blows up
-  // (s from 1 to 0.5: omega dt 2.7 for a bead with one neighbour). There the strict
-  // explicit limit applies.
-  double turgor_bound;
-
-  void bead(FixCGMSFluid::Trouble &t, int i, double nn, double sum_r, double q7, double press,
-            const double *rmass, const NeighbourSums *sums) const
-  {
-    if (!std::isfinite(press) && t.nonfinite < 0) t.nonfinite = i;
-    // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
-    // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
-    // (reduced mass m/2) that gives omega^2 = 56 k_T K q^7 / (m sum_k (x_k - d_p)), and
-    // the explicit update needs omega dt < 2. The estimate is rough: a squeezed pair at
-    // omega dt = 2.8 relaxes before it can blow up, so the run stops only past 4, which
-    // the blow-ups seen (a pair squeezed to 0.4 x_ref, a dryness jump) reach within a step.
-    // Not under a quasi-static solve: there the pressure does not follow the geometry.
-    if (turgor && nn > 0.0) {
-      // (omega dt)^2 > 16 without a division in the common case
-      const double sum_gap = sum_r - nn * pectin;
-      if (limits.turgor_suspect(q7, rmass[i], sum_gap, turgor_bound)) {
-        const double omega2 = limits.turgor_omega2(q7, rmass[i], sum_gap);
-        const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
-        if (ratio > t.stiff_ratio) {
-          t.stiff = i;
-          t.stiff_ratio = ratio;
-          t.stiff_limit = 2.0 / sqrt(omega2);
-        }
-      }
-    }
-    // the cell-shape term is a spring network of stiffness about 2 k_S per pair: omega^2
-    // up to 8 k_S N / m, so the explicit step needs 2 k_S N dt^2 < m (the largest stable
-    // k_S measured on a fresh 10 x 12 tissue at 1e-7 s lies between 1000 and 1200 N/m;
-    // this gives 970: the damping uses up part of the margin)
-    if (shape && limits.shape_exceeded(rmass[i], nn) &&
-        (t.shaky < 0 || rmass[i] * sums[t.shaky].count < rmass[t.shaky] * nn))
-      t.shaky = i;
-    // damping stability (see damping_limit_error): the smallest m / N fails first
-    if (limits.damping_exceeded(rmass[i], nn) &&
-        (t.unstable < 0 || rmass[i] * sums[t.unstable].count < rmass[t.unstable] * nn))
-      t.unstable = i;
-  }
-};
-}    // namespace
-
-/* ----------------------------------------------------------------------
    beads without a fluid state (MF0 <= 0) can appear only where beads were
    created during the run (set_arrays) or the atom count changed: looked for
    only then, not for every bead in every step. Returns the first, or -1.
@@ -853,139 +641,6 @@ int FixCGMSFluid::bead_without_state()
 }
 
 /* ----------------------------------------------------------------------
-   fluid state of every local bead: eqns (10-11), density, eqn (4), eqn (9),
-   eqn (7), the pair coefficient, the quasi-static energy, and the beads that
-   break a stability limit (stop_if_unstable() reports them)
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
-{
-  const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
-  double *rmass = atom->rmass;
-  const int nlocal = atom->nlocal;
-
-  FluidPassConstants p;
-  p.dt = update->dt;
-  p.kT = pair->turgor ? mat.k_T : 0.0;
-  p.kPA = pair->perimeter ? mat.k_PA : 0.0;
-  p.kS = mat.k_S;
-  p.P_f = mat.P_f;
-  p.K = mat.K;
-  p.pectin = mat.pectin;
-  p.b_ref = mat.b_ref;
-  p.height = mat.height;
-  p.inv_h = 1.0 / mat.height;
-  p.conductance = mat.height * mat.L_p;
-  p.L_p = mat.L_p;
-  p.advance = advance;
-  p.transfer = transfer;
-  p.implicit = transfer_implicit;
-  p.density_rate = density_rate;
-  p.balance = always_balance || (minimize_balance && update->whichflag == 2);
-  const int advance_mass = advance && transfer;
-  // its energy is needed only where LAMMPS tallies energies (a second walk over the list)
-  const int shape_energy = p.kS > 0.0 && (p.balance || update->eflag_global == update->ntimestep);
-  StabilityScan scan{step_limits(), p.dt, p.pectin, 0, 0, 0.0};
-  scan.turgor = p.kT > 0.0 && !p.balance;
-  scan.shape = p.kS > 0.0 && !p.balance;
-  scan.turgor_bound = dryness_changed ? 4.0 : 16.0;
-
-  trouble.fresh = bead_without_state();
-  if (trouble.fresh >= 0) return;
-  // found beads in a local during the loop, into trouble after it
-  Trouble found;
-  found.after_change = dryness_changed;
-  dryness_changed = 0;
-  const NeighbourSums *const sums = this->sums;
-  double *const coef = this->coef;
-  double energy = 0.0;
-  DrynessLaws at;
-  const int periphery = pair->periphery;
-  for (int i = 0; i < nlocal; i++) {
-    double *c = cg[i];
-
-    // mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
-    if (advance_mass) {
-      c[MF] += p.dt * c[DMDT];
-      if (!(c[MF] > 0.0) && found.emptied < 0) found.emptied = i;
-      if (inertia_fluid) rmass[i] = c[MF] + c[MS];
-    }
-
-    if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, periphery);
-    const double nn = sums[i].count;
-    const double sum_r = sums[i].distance;
-    if (!(nn > 0.0) && !allow_isolated && found.isolated < 0) found.isolated = i;
-    const double b = cell_side(nn, sum_r, at.beta, p.pectin, p.b_ref);
-    const double area = HEX_AREA * b * b;
-    const double inv_area = 1.0 / area;
-    const double perim = 6.0 * b;
-    const double rho = bead_density(p, at, c, area, inv_area);
-    const double q7 = at.q7(rho);
-    const double press = at.pressure(q7, p.K);
-    const double ldeq = c[L0P] * at.ld_factor;
-
-    // the state row only (one cache line); the outputs (N, side, perimeter,
-    // pressure, l_d, the coefficient) are derived from it and the sums when an
-    // output asks (for_each_output)
-    c[DMDT] = bead_mass_rate(p, at, perim, inv_area, rho, press, q7);
-    c[AREA] = area;
-    c[RHO] = rho;
-    coef[i] = pair_coefficient(p.kT, p.kPA, p.P_f, press, perim, ldeq);
-    // the cell-shape term's share of bead i, k_S xbar_i (xbar_i = sum_k x_ik / N);
-    // the per-atom output keeps the paper's turgor and perimeter coefficient
-    if (p.kS > 0.0 && nn > 0.0) coef[i] += at.kS * sum_r / nn;
-    // with the pressures held, turgor and perimeter forces are the gradient of the
-    // quasi-static potential, as long as no neighbour crosses the cutoff: so minimize
-    // can do line searches on them
-    if (p.balance && nn > 0.0)
-      energy += quasi_static_energy(p.kT, p.kPA, p.P_f, press, sum_r, perim, ldeq,
-                                    perimeter_gradient(nn, at.beta));
-    // The cell-shape energy k_S(s_i)/2 sum_k (x_ik - xbar_i)^2 does not depend on the
-    // pressures: it is a potential in any run. Its -k_S(s_i)/2 N xbar_i^2 here, its
-    // sum over pairs of (k_S(s_i) + k_S(s_k))/2 x^2 in shape_pair_energy()
-    if (shape_energy && nn > 0.0) energy -= 0.5 * at.kS * sum_r * sum_r / nn;
-    scan.bead(found, i, nn, sum_r, q7, press, rmass, sums);
-  }
-
-  energy_local += energy;
-  if (shape_energy) energy_local += shape_pair_energy();
-  trouble = found;
-}
-
-/* ---------------------------------------------------------------------- */
-
-double FixCGMSFluid::shape_pair_energy() const
-{
-  // sum over neighbour pairs of (k_S(s_i) + k_S(s_k))/2 x^2 (x counted once from
-  // each end), from the distances pass 1 cached per entry of the half list (0:
-  // beyond the cutoff); without newton_pair a pair with a ghost is in the lists of
-  // both of its ranks. k_S(s) differs between beads only with an exponent and a
-  // dryness that varies (then forwarded to the ghosts, see pre_force)
-  const Material &mat = pair->material();
-  const double s_uniform = pair->get_uniform_dryness();
-  const int by_bead = mat.k_S_exponent != 0.0 && s_uniform <= 0.0;
-  const double kS = by_bead ? 0.0 : mat.shape_stiffness(s_uniform > 0.0 ? s_uniform : 1.0);
-  double **cg = bead_array(lmp);
-  const int nlocal = atom->nlocal;
-  const int newton_pair = force->newton_pair;
-  double energy = 0.0;
-  bigint k = 0;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    const int *jlist = list->firstneigh[i];
-    const double kSi = by_bead ? mat.shape_stiffness(cg[i][DRYNESS]) : kS;
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const double r = rdist[k++];
-      const int j = jlist[jj] & NEIGHMASK;
-      const double kS_pair = by_bead ? 0.5 * (kSi + mat.shape_stiffness(cg[j][DRYNESS])) : kS;
-      energy += (newton_pair || j < nlocal ? 1.0 : 0.5) * kS_pair * r * r;
-    }
-  }
-  return energy;
-}
-
-/* ----------------------------------------------------------------------
    the quasi-static potential (J) of the last force evaluation while the
    pressures are held at -Pi (minimize, or balance yes); 0 otherwise, when
    turgor and perimeter forces have no potential
@@ -993,8 +648,9 @@ double FixCGMSFluid::shape_pair_energy() const
 
 double FixCGMSFluid::compute_scalar()
 {
+  const double local = pair ? pair->quasi_static_energy() : 0.0;
   double energy = 0.0;
-  MPI_Allreduce(&energy_local, &energy, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&local, &energy, 1, MPI_DOUBLE, MPI_SUM, world);
   return energy;
 }
 
@@ -1026,7 +682,8 @@ void FixCGMSFluid::refresh_vector()
 
   // the explicit stability limits of the fluid pass (damping, turgor, cell shape),
   // from the neighbour sums of the last geometry pass; reduced as rates 1/dt^2
-  const StepLimits limits = step_limits();
+  const StepLimits limits = pair->step_limits();
+  const NeighbourSums *sums = neighbour_sums(lmp);
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   for_each_output([&](int i, const double *out) {
     const double *c = cg[i];
@@ -1092,42 +749,19 @@ int FixCGMSFluid::output_step() const
 }
 
 /* ----------------------------------------------------------------------
-   the outputs of every local bead i (CGMS::Output columns), handed to use(i,
-   outputs): its state, and what the fluid pass derived from the state and the
-   neighbour sums, recomputed by the same formulas; 0 where no pass has
-   computed them yet (or the pair style that holds the material is gone)
+   the outputs of every local bead, from pair_style cgms, which derives them
+   (PairCGMS::for_each_output); the state alone when that style is gone
 ------------------------------------------------------------------------- */
 
 void FixCGMSFluid::for_each_output(const std::function<void(int, const double *)> &use) const
 {
-  const auto *pair = dynamic_cast<const PairCGMS *>(force->pair);
+  const auto *current = dynamic_cast<const PairCGMS *>(force->pair);
+  if (current) return current->for_each_output(use);
   double **cg = bead_array(lmp);
-  const int nlocal = atom->nlocal;
-  const int derived = passes_done && pair;
-  DrynessLaws at;
   double out[NOUTPUTS];
-  for (int i = 0; i < nlocal; i++) {
-    const double *c = cg[i];
-    for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = c[k];
-    out[OUT_COEF] = out[OUT_NNEIGH] = out[OUT_SIDE] = 0.0;
-    out[OUT_PRESS] = out[OUT_PERIM] = out[OUT_LDEQ] = 0.0;
-    if (derived && c[MF0] > 0.0) {
-      const Material &mat = pair->material();
-      if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, pair->periphery);
-      const double nn = sums[i].count;
-      const double b = cell_side(nn, sums[i].distance, at.beta, mat.pectin, mat.b_ref);
-      const double perim = 6.0 * b;
-      const double press = at.pressure(at.q7(c[RHO]), mat.K);
-      const double ldeq = c[L0P] * at.ld_factor;
-      out[OUT_NNEIGH] = nn;
-      out[OUT_SIDE] = b;
-      out[OUT_PERIM] = perim;
-      out[OUT_PRESS] = press;
-      out[OUT_LDEQ] = ldeq;
-      out[OUT_COEF] =
-          pair_coefficient(pair->turgor ? mat.k_T : 0.0, pair->perimeter ? mat.k_PA : 0.0, mat.P_f,
-                           press, perim, ldeq);
-    }
+  for (int k = 0; k < NOUTPUTS; k++) out[k] = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = cg[i][k];
     use(i, out);
   }
 }
@@ -1139,16 +773,8 @@ void FixCGMSFluid::fill_outputs()
   });
 }
 
-void FixCGMSFluid::pack_output(int column, double *buf, int nvalues, int groupbit)
-{
-  const int *mask = atom->mask;
-  for_each_output([&](int i, const double *out) {
-    buf[i * nvalues] = (mask[i] & groupbit) ? out[column] : 0.0;
-  });
-}
-
 /* ----------------------------------------------------------------------
-   column >= 0: that column of the state row; -1: the pair coefficients
+   a column of the state row to the ghosts
 ------------------------------------------------------------------------- */
 
 void FixCGMSFluid::forward(int column)
@@ -1159,38 +785,13 @@ void FixCGMSFluid::forward(int column)
 
 int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
-  if (comm_column < 0) {
-    for (int i = 0; i < n; i++) buf[i] = coef[list[i]];
-  } else {
-    double **cg = bead_array(lmp);
-    for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
-  }
+  double **cg = bead_array(lmp);
+  for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
   return n;
 }
 
 void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
 {
-  if (comm_column < 0) {
-    for (int i = 0; i < n; i++) coef[first + i] = buf[i];
-  } else {
-    double **cg = bead_array(lmp);
-    for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
-  }
-}
-
-int FixCGMSFluid::pack_reverse_comm(int n, int first, double *buf)
-{
-  for (int i = 0; i < n; i++) {
-    buf[NSUMS * i] = sums[first + i].count;
-    buf[NSUMS * i + 1] = sums[first + i].distance;
-  }
-  return NSUMS * n;
-}
-
-void FixCGMSFluid::unpack_reverse_comm(int n, int *list, double *buf)
-{
-  for (int i = 0; i < n; i++) {
-    sums[list[i]].count += buf[NSUMS * i];
-    sums[list[i]].distance += buf[NSUMS * i + 1];
-  }
+  double **cg = bead_array(lmp);
+  for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
 }

@@ -34,6 +34,7 @@ using namespace CGMS;
 
 void FixCGMSFluid::warn_if_folded()
 {
+  const NeighbourSums *sums = neighbour_sums(lmp);
   double most_local = 0.0, most = 0.0;
   for (int i = 0; i < atom->nlocal; i++) most_local = MAX(most_local, sums[i].count);
   MPI_Allreduce(&most_local, &most, 1, MPI_DOUBLE, MPI_MAX, world);
@@ -118,6 +119,7 @@ void FixCGMSFluid::check_dryness_range(double s_min, double s_max)
 
 void FixCGMSFluid::warn_if_dried(bigint fresh)
 {
+  const NeighbourSums *sums = neighbour_sums(lmp);
   if (!pair->pair_coefficient_needed() && !transfer) return;    // no geometry computed
   const Material &mat = pair->material();
   double **cg = bead_array(lmp);
@@ -145,27 +147,38 @@ void FixCGMSFluid::warn_if_dried(bigint fresh)
 
 /* ---------------------------------------------------------------------- */
 
+void FixCGMSFluid::fresh_bead_error(int fresh)
+{
+  error->one(FLERR,
+             "Fix cgms/fluid: bead {} appeared during the run at step {} (e.g. from fix "
+             "deposit or fix pour) and has no fluid state: CGMS gives beads their state at "
+             "setup; add beads between runs (create_atoms, then run)",
+             atom->tag[fresh], update->ntimestep);
+}
+
+void FixCGMSFluid::emptied_error(int emptied)
+{
+  error->one(FLERR,
+             "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
+             "unstable; reduce the time step (now {:.6g} s)",
+             atom->tag[emptied], bead_array(lmp)[emptied][MF], update->ntimestep, update->dt);
+}
+
+/* ----------------------------------------------------------------------
+   the first bead (of each kind, in this order) that pair_style cgms's fluid
+   pass found beyond a limit stops the run
+------------------------------------------------------------------------- */
+
 void FixCGMSFluid::stop_if_unstable(const Trouble &t)
 {
   const Material &mat = pair->material();
   double **cg = bead_array(lmp);
   const double *rmass = atom->rmass;
+  const NeighbourSums *sums = neighbour_sums(lmp);
   const double dt = update->dt;
-  const int fresh = t.fresh, emptied = t.emptied, isolated = t.isolated;
-  const int nonfinite = t.nonfinite, unstable = t.unstable, shaky = t.shaky, stiff = t.stiff;
+  const int isolated = t.isolated, nonfinite = t.nonfinite, unstable = t.unstable;
+  const int shaky = t.shaky, stiff = t.stiff;
 
-  if (fresh >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} appeared during the run at step {} (e.g. from fix "
-               "deposit or fix pour) and has no fluid state: CGMS gives beads their state at "
-               "setup; add beads between runs (create_atoms, then run)",
-               atom->tag[fresh], update->ntimestep);
-
-  if (emptied >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
-               "unstable; reduce the time step (now {:.6g} s)",
-               atom->tag[emptied], cg[emptied][MF], update->ntimestep, dt);
   if (isolated >= 0) isolated_error(isolated);
   if (nonfinite >= 0)
     error->one(FLERR,
@@ -178,8 +191,9 @@ void FixCGMSFluid::stop_if_unstable(const Trouble &t)
                "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the cell-shape "
                "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
                "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
-               dt, mat.k_S, update->ntimestep, step_limits().shape(rmass[shaky], sums[shaky].count),
-               atom->tag[shaky], rmass[shaky], sums[shaky].count);
+               dt, mat.k_S, update->ntimestep,
+               pair->step_limits().shape(rmass[shaky], sums[shaky].count), atom->tag[shaky],
+               rmass[shaky], sums[shaky].count);
   if (stiff >= 0 && t.after_change)
     error->one(FLERR,
                "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
@@ -235,6 +249,7 @@ void FixCGMSFluid::check_setup_input()
 
 void FixCGMSFluid::check_setup_geometry()
 {
+  const NeighbourSums *sums = neighbour_sums(lmp);
   const Material &mat = pair->material();
   double **x = atom->x;
   const tagint *tag = atom->tag;
@@ -347,6 +362,7 @@ void FixCGMSFluid::isolated_error(int i)
 
 void FixCGMSFluid::damping_limit_error(int i)
 {
+  const NeighbourSums *sums = neighbour_sums(lmp);
   const double m = atom->rmass[i];
   const double nn = sums[i].count;
   // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
@@ -384,6 +400,6 @@ void FixCGMSFluid::damping_limit_error(int i)
              "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
              "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
              "use a smaller timestep{}",
-             update->dt, update->ntimestep, step_limits().damping(m, nn), atom->tag[i], m, nn,
+             update->dt, update->ntimestep, pair->step_limits().damping(m, nn), atom->tag[i], m, nn,
              inertia_fluid ? " or 'inertia fresh'" : "");
 }
