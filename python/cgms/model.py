@@ -2,8 +2,10 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """The model's formulas, written once (doc/model.md): the reference cell, the periphery
-factor beta(s), the steady state of a bead (perimeter, spacing, density, moisture) and the
-time-step limits of the damping and the cell-shape stiffness.
+factor beta(s), the virtual-cell geometry, the Tait law, the mass transfer, the pair
+coefficient and the quasi-static energy, the steady state of a bead (perimeter, spacing,
+density, moisture) and the time-step limits of the damping and the cell-shape stiffness.
+The plugin's twin is ``src/CGMS/cgms_laws.h``; ``tests/test_laws.py`` holds the two equal.
 
 Every function takes a material dict (:func:`cgms.material.read`) and plain numbers or
 NumPy arrays. ``tests/reference.py`` repeats the force and update formulas on purpose, as
@@ -26,6 +28,75 @@ def reference_cell(diameter, pectin):
 def beta(mat, s):
     """Periphery factor beta(s) = beta_a + beta_b ln s."""
     return mat["beta_a"] + mat["beta_b"] * np.log(s)
+
+
+def sides(nneigh, beta_s):
+    """N + beta max(0, 6 - N): the virtual hexagon's perimeter in units of b_int (eqn 11)."""
+    nn = np.asarray(nneigh, float)
+    return nn + beta_s * np.maximum(0, 6 - nn)
+
+
+def cell_side(nneigh, sum_r, beta_s, pectin, b_ref):
+    """The side b of eqns (10)-(11) of a bead with ``nneigh`` neighbours at summed centre
+    distance ``sum_r``: b_int = (sum_r - N d_p) / (sqrt(3) N), b = b_int / 6 (N + beta
+    max(0, 6 - N)); ``b_ref`` for a bead without neighbours."""
+    nn = np.asarray(nneigh, float)
+    safe = np.where(nn > 0, nn, 1.0)
+    b = (np.asarray(sum_r, float) - safe * pectin) / (math.sqrt(3) * safe) / 6 * sides(safe, beta_s)
+    return np.where(nn > 0, b, b_ref)
+
+
+def perimeter_gradient(nneigh, beta_s):
+    """g_i = dl_i/dx_ik = (N + beta max(0, 6 - N)) / (sqrt(3) N) (doc/model.md, Potential
+    energy)."""
+    return sides(nneigh, beta_s) / (math.sqrt(3) * np.asarray(nneigh, float))
+
+
+def tait_pressure(q, P_ref, K):
+    """The Tait law P = P_ref + K (q^7 - 1), q the density over its reference (eqn 4)."""
+    return P_ref + K * (np.asarray(q, float) ** 7 - 1)
+
+
+def tait_density(P, P_ref, K, rho_ref):
+    """The density of pressure ``P`` in the Tait law: rho_ref (1 + (P - P_ref) / K)^(1/7)."""
+    return rho_ref * (1 + (np.asarray(P, float) - P_ref) / K) ** (1 / 7)
+
+
+def mass_rate(perimeter, height, L_p, rho, P, Pi):
+    """Eqn (7): dm_f/dt = -l h L_p rho (P + Pi), membrane area l h."""
+    return -perimeter * height * L_p * rho * (P + Pi)
+
+
+def transfer_rate(L_p, perimeter, area, P, Pi, K, q):
+    """lambda = -d(dm_f/dt)/dm_f = L_p (l / A) (P + Pi + 7 K q^7) of the linearised backward
+    Euler step of the mass transfer (doc/model.md, Fluid phase)."""
+    return L_p * perimeter / area * (P + Pi + 7 * K * np.asarray(q, float) ** 7)
+
+
+def pair_coefficient(k_T, k_PA, P_f, P, perimeter, l_d):
+    """c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2, the turgor and perimeter forces' per-bead
+    coefficient (eqns 3, 8)."""
+    return 0.5 * (k_T * (P - P_f) - k_PA * (perimeter - l_d))
+
+
+def quasi_static_energy(k_T, k_PA, P_f, P, sum_r, perimeter, l_d, g):
+    """A bead's potential with its pressure held (doc/model.md, Potential energy):
+    -k_T/2 (P - P_f) sum_k x_ik + k_PA (l - l_d)^2 / (4 g)."""
+    return -0.5 * k_T * (P - P_f) * sum_r + k_PA * (perimeter - l_d) ** 2 / (4 * g)
+
+
+def shape_stiffness(mat, s):
+    """k_S(s) = max(k_S s^n, k_S_floor), exactly k_S when n = 0 (doc/model.md, Shear and the
+    cell-shape stiffness)."""
+    n = mat.get("k_S_exponent", 0.0)
+    if n == 0:
+        return mat["k_S"] + 0 * np.asarray(s, float)
+    return np.maximum(mat["k_S"] * np.asarray(s, float) ** n, mat.get("k_S_floor", 0.0))
+
+
+def turgor_omega2(k_T, K, q, mass, sum_gap):
+    """omega^2 = 56 k_T K q^7 / (m sum_k (x_ik - d_p)) of the turgor-density coupling."""
+    return 56 * k_T * K * np.asarray(q, float) ** 7 / (mass * sum_gap)
 
 
 #: pair_style cgms's default cutoff/lj (src/CGMS/pair_cgms.cpp, CUTOFF_FACTOR): a pair's
@@ -121,7 +192,6 @@ def turgor_dt_limit(mat, mass, nneigh, side, rho, s):
     omega^2 = 56 k_T K (rho / (s rho0))^7 / (m sum_k x_ik), sum_k x_ik of a bead with N
     neighbours and cell side b."""
     nn = np.asarray(nneigh, float)
-    sum_gap = math.sqrt(3) * nn * 6 * side / (nn + beta(mat, s) * np.maximum(0, 6 - nn))
-    omega = np.sqrt(56 * mat["k_T"] * mat["K"] * (rho / (s * mat["rho0"])) ** 7
-                    / (mass * sum_gap))
-    return 2 / omega
+    sum_gap = math.sqrt(3) * nn * 6 * side / sides(nn, beta(mat, s))
+    return 2 / np.sqrt(turgor_omega2(mat["k_T"], mat["K"], rho / (s * mat["rho0"]), mass,
+                                     sum_gap))

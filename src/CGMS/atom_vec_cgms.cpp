@@ -10,7 +10,6 @@
 #include "atom.h"
 #include "cgms_store.h"
 #include "error.h"
-#include "fix_cgms_fluid.h"
 #include "input.h"
 #include "modify.h"
 
@@ -21,6 +20,7 @@
 using namespace LAMMPS_NS;
 
 static constexpr char FIELD[] = "cgms";
+static constexpr char SUMS_FIELD[] = "cgms_sums";
 
 /* ---------------------------------------------------------------------- */
 
@@ -34,22 +34,27 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) :
 
   // register the per-bead array once per Atom instance; read_restart and a
   // second atom_style command construct this class again for the same Atom
-  bool registered = false;
-  for (const auto &item : atom->peratom)
+  bool registered = false, sums_registered = false;
+  for (const auto &item : atom->peratom) {
     if (item.name == FIELD) registered = true;
+    if (item.name == SUMS_FIELD) sums_registered = true;
+  }
   if (!registered) atom->add_peratom(FIELD, &CGMS::bead_array(lmp), Atom::DOUBLE, CGMS::NSTATE);
+  if (!sums_registered)
+    atom->add_peratom(SUMS_FIELD, &CGMS::sums_array(lmp), Atom::DOUBLE, CGMS::NSUMS);
 
   // the row (the bead's state, one cache line) travels with a bead that changes
-  // rank. Ghosts get none of it here: what is read for ghosts, the dryness (when
-  // it is not uniform) and the pair coefficient, fix cgms/fluid sends itself
-  // when they change (forward communication).
-  fields_grow = {"rmass", FIELD};
-  fields_copy = {"rmass", FIELD};
+  // rank, and so do the neighbour sums of the last geometry pass (not in restart
+  // files: every setup computes them). Ghosts get none of it here: what is read
+  // for ghosts, the dryness (when it is not uniform, fix cgms/fluid) and the pair
+  // coefficient (pair_style cgms), is sent when it changes (forward communication).
+  fields_grow = {"rmass", FIELD, SUMS_FIELD};
+  fields_copy = {"rmass", FIELD, SUMS_FIELD};
   fields_border = {"rmass"};
   fields_border_vel = {"rmass"};
-  fields_exchange = {"rmass", FIELD};
+  fields_exchange = {"rmass", FIELD, SUMS_FIELD};
   fields_restart = {"rmass", FIELD};
-  fields_create = {"rmass", FIELD};
+  fields_create = {"rmass", FIELD, SUMS_FIELD};
   fields_data_atom = {"id", "type", "x"};
   fields_data_vel = {"id", "v"};
 
@@ -135,6 +140,7 @@ void AtomVecCGMS::create_atom_post(int ilocal)
   rmass[ilocal] = 1.0;
   for (int k = 0; k < CGMS::NSTATE; k++) cgms[ilocal][k] = 0.0;
   cgms[ilocal][CGMS::MF0] = CGMS::NO_STATE;
+  for (int k = 0; k < CGMS::NSUMS; k++) CGMS::sums_array(lmp)[ilocal][k] = 0.0;
   clear_custom_rows(ilocal);
 }
 
@@ -228,8 +234,8 @@ bool AtomVecCGMS::scan_data_file(const std::string &file, const std::string &sec
   std::string &note = CGMS::dropped_columns_note(lmp);
   note.clear();
   const auto look_for_note = [&](const char *start) {
-    if (*start == '#' && strncmp(start, CGMS::DROPPED_COLUMNS_NOTE,
-                                 strlen(CGMS::DROPPED_COLUMNS_NOTE)) == 0)
+    if (*start == '#' &&
+        strncmp(start, CGMS::DROPPED_COLUMNS_NOTE, strlen(CGMS::DROPPED_COLUMNS_NOTE)) == 0)
       note = fmt::format("{} line {}", file, number);
   };
   while (utils::fgets_trunc(line, MAXLINE, fp)) {
@@ -338,8 +344,8 @@ int AtomVecCGMS::property_atom(const std::string &name)
 
 /* ----------------------------------------------------------------------
    index is a CGMS::Output column: the state columns come from the row, the
-   others from fix cgms/fluid, which derives them now from the state and its
-   last geometry pass (0 without the fix)
+   others from pair_style cgms, which derives them now from the state and its
+   last geometry pass (0 without the pair style)
 ------------------------------------------------------------------------- */
 
 void AtomVecCGMS::pack_property_atom(int index, double *buf, int nvalues, int groupbit)
@@ -349,12 +355,10 @@ void AtomVecCGMS::pack_property_atom(int index, double *buf, int nvalues, int gr
   int column = -1;
   for (int k = 0; k < CGMS::NSTATE; k++)
     if (CGMS::STATE_OUTPUT[k] == index) column = k;
-  if (column < 0) {
-    const auto fixes = modify->get_fix_by_style("^cgms/fluid$");
-    if (!fixes.empty()) {
-      dynamic_cast<FixCGMSFluid *>(fixes.front())->pack_output(index, buf, nvalues, groupbit);
-      return;
-    }
+  const auto &packer = CGMS::output_packer(lmp);
+  if (column < 0 && packer) {
+    packer(index, buf, nvalues, groupbit);
+    return;
   }
   int n = 0;
   for (int i = 0; i < nlocal; i++) {

@@ -147,10 +147,11 @@ void CGMS::Material::finish(LAMMPS *lmp, const std::string &where)
                     "cell-shape stiffness, k_S the fresh (largest) one",
                     where, k_S_floor, k_S);
 
-  A_ref = MY_PI * diameter * diameter / 4.0;
-  b_ref = sqrt(2.0 * A_ref / (3.0 * sqrt(3.0)));
-  l_ref = 6.0 * b_ref;
-  x_ref = sqrt(3.0) * b_ref + pectin;
+  const ReferenceCell cell = reference_cell(diameter, pectin);
+  A_ref = cell.A_ref;
+  b_ref = cell.b_ref;
+  l_ref = cell.l_ref;
+  x_ref = cell.x_ref;
   if (r0 == 0.0) r0 = x_ref;
 }
 
@@ -161,16 +162,4 @@ std::vector<std::pair<std::string, double>> CGMS::Material::parameters() const
   std::vector<std::pair<std::string, double>> values;
   for (const auto &e : entries) values.emplace_back(e.name, this->*e.member);
   return values;
-}
-
-/* ---------------------------------------------------------------------- */
-
-double CGMS::Material::beta(double s) const
-{
-  return beta_a + beta_b * log(s);
-}
-
-double CGMS::Material::lj_radius(double s) const
-{
-  return r0 * (1.0 + lj_slope * log(s));
 }

@@ -8,8 +8,8 @@
 #ifndef LMP_CGMS_MATERIAL_H
 #define LMP_CGMS_MATERIAL_H
 
-#include <algorithm>
-#include <cmath>
+#include "cgms_laws.h"
+
 #include <string>
 #include <utility>
 #include <vector>
@@ -64,13 +64,19 @@ namespace CGMS {
     // every parameter of the table with its value, in table order (r0 resolved)
     std::vector<std::pair<std::string, double>> parameters() const;
 
-    double beta(double s) const;
-    double lj_radius(double s) const;
+    // the laws of cgms_laws.h with this material's parameters
+    double beta(double s) const { return CGMS::beta(beta_a, beta_b, s); }
+    double lj_radius(double s) const { return CGMS::lj_radius(r0, lj_slope, s); }
     // cell-shape stiffness of a bead of dryness s, max(k_S s^n, k_S_floor) (exactly k_S
     // when n = 0, since finish() keeps k_S_floor <= k_S; exactly k_S s^n when the floor is 0)
     double shape_stiffness(double s) const
     {
-      return k_S_exponent == 0.0 ? k_S : std::max(k_S * pow(s, k_S_exponent), k_S_floor);
+      return CGMS::shape_stiffness(k_S, k_S_exponent, k_S_floor, s);
+    }
+    // l_d / l0' at dryness s (eqn 9)
+    double perimeter_contraction(double s) const
+    {
+      return CGMS::perimeter_contraction(perim_a, perim_b, s);
     }
   };
 

@@ -34,6 +34,27 @@ double **&CGMS::bead_array(LAMMPS *lmp)
   return arrays[lmp];
 }
 
+double **&CGMS::sums_array(LAMMPS *lmp)
+{
+  static std::map<LAMMPS *, double **> arrays;
+  return arrays[lmp];
+}
+
+// memory->grow allocates a 2d array's rows as one block: row 0 is its start
+CGMS::NeighbourSums *CGMS::neighbour_sums(LAMMPS *lmp)
+{
+  double **array = sums_array(lmp);
+  return array ? reinterpret_cast<NeighbourSums *>(array[0]) : nullptr;
+}
+
+/* ---------------------------------------------------------------------- */
+
+CGMS::OutputPacker &CGMS::output_packer(LAMMPS *lmp)
+{
+  static std::map<LAMMPS *, OutputPacker> packers;
+  return packers[lmp];
+}
+
 /* ---------------------------------------------------------------------- */
 
 std::string &CGMS::dropped_columns_note(LAMMPS *lmp)

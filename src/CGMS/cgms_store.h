@@ -10,6 +10,7 @@
 
 #include "lmptype.h"
 
+#include <functional>
 #include <string>
 
 namespace LAMMPS_NS {
@@ -36,9 +37,9 @@ namespace CGMS {
 
   // Columns of a bead's outputs, in the order of fix cgms/fluid's per-atom array
   // (f_ID[1] to f_ID[14]) and with the names compute property/atom knows. The
-  // state columns are copies of the row; the others fix cgms/fluid derives
+  // state columns are copies of the row; the others pair_style cgms derives
   // from the row and the neighbour sums of its last geometry pass when an
-  // output asks for them (FixCGMSFluid::bead_outputs).
+  // output asks for them (PairCGMS::for_each_output).
   enum Output {
     OUT_COEF = 0,    // pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2 (N)
     OUT_DRYNESS,
@@ -56,6 +57,28 @@ namespace CGMS {
     OUT_DMDT,
     NOUTPUTS
   };
+
+  // What pair_style cgms's geometry pass sums per bead (local and ghost; summed
+  // over ranks by reverse communication): the neighbours within the cutoff, N,
+  // and the sum of their centre distances, sum_k x_ik (eqn 10). Two doubles, so
+  // that the communication packs them as such. The per-atom array "cgms_sums"
+  // of atom_style cgms holds them: they move with the beads, so that the
+  // outputs derived from them stay right after a sort or a migration.
+  struct NeighbourSums {
+    double count;       // N
+    double distance;    // sum_k x_ik (m)
+  };
+  constexpr int NSUMS = sizeof(NeighbourSums) / sizeof(double);
+  double **&sums_array(LAMMPS *lmp);
+  // the array as NeighbourSums, one per local and ghost bead (nullptr before any bead);
+  // valid until the atom arrays grow
+  NeighbourSums *neighbour_sums(LAMMPS *lmp);
+
+  // The outputs of every local bead for compute property/atom: column (CGMS::Output)
+  // into buf[i * nvalues] for beads in the group, 0 elsewhere. pair_style cgms,
+  // which derives them, sets it while it exists; atom_style cgms calls it, if set.
+  using OutputPacker = std::function<void(int column, double *buf, int nvalues, int groupbit)>;
+  OutputPacker &output_packer(LAMMPS *lmp);
 
   // Names of the output columns for dump custom, compute property/atom and the
   // fix's per-atom array, in output order.

@@ -9,14 +9,13 @@
 
 #include "atom.h"
 #include "atom_vec_cgms.h"
+#include "cgms_laws.h"
 #include "cgms_store.h"
 #include "comm.h"
 #include "error.h"
 #include "force.h"
 #include "input.h"
-#include "math_const.h"
 #include "memory.h"
-#include "min.h"
 #include "modify.h"
 #include "my_page.h"
 #include "neigh_list.h"
@@ -34,139 +33,6 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 using namespace CGMS;
-using MathConst::MY_PI;
-
-static const double SQRT3 = sqrt(3.0);
-
-/* ----------------------------------------------------------------------
-   entries a neighbour list holds since its last build: each thread's page
-   counts what it stored and every build resets it (a copy list shares its
-   parent's pages); a list without pages is counted bead by bead
-------------------------------------------------------------------------- */
-
-static bigint list_entries(const NeighList *list, int nthreads)
-{
-  bigint n = 0;
-  if (list->ipage) {
-    for (int t = 0; t < nthreads; t++) n += list->ipage[t].ndatum;
-  } else {
-    for (int ii = 0; ii < list->inum; ii++) n += list->numneigh[list->ilist[ii]];
-  }
-  return n;
-}
-static const double HEX_AREA = 1.5 * sqrt(3.0);    // hexagon area / side^2
-
-// 1 / (sqrt(3) N) of eqn (10) for the neighbour counts that occur: a lookup
-// instead of a division per bead
-static constexpr int MAXCOUNT = 32;
-static const struct InverseCounts {
-  double value[MAXCOUNT];
-  InverseCounts()
-  {
-    value[0] = 0.0;
-    for (int n = 1; n < MAXCOUNT; n++) value[n] = 1.0 / (sqrt(3.0) * n);
-  }
-  double operator[](int n) const { return value[n]; }
-} INV_SQRT3_N;
-
-/* ----------------------------------------------------------------------
-   the formulas both the fluid pass and the outputs use (one copy each, so the
-   outputs an output step computes are the pass's numbers to the last bit)
-------------------------------------------------------------------------- */
-
-namespace {
-// the virtual-cell side b_avg of eqns (10)-(11) of a bead with nn neighbours at a
-// summed centre distance sum_r; b_ref for a bead without neighbours
-inline double cell_side(double nn, double sum_r, double beta, double pectin, double b_ref)
-{
-  if (!(nn > 0.0)) return b_ref;
-  const int n_int = static_cast<int>(nn);
-  const double inv_n = n_int < MAXCOUNT ? INV_SQRT3_N[n_int] : 1.0 / (SQRT3 * nn);
-  const double b_int = (sum_r - nn * pectin) * inv_n;
-  return b_int * (1.0 / 6.0) * (nn + beta * MAX(0.0, 6.0 - nn));
-}
-
-// what depends on the dryness alone: recomputed when it changes from one bead to the next
-struct DrynessLaws {
-  double s = -1.0, beta = 1.0, inv_rho_ref = 0.0, P_ref = 0.0, Pi = 0.0, ld_factor = 0.0;
-  double kS = 0.0;    // cell-shape stiffness k_S(s)
-
-  void set(double s_new, const Material &mat, int periphery)
-  {
-    s = s_new;
-    beta = periphery ? mat.beta(s) : 1.0;
-    inv_rho_ref = 1.0 / (s * mat.rho0);
-    P_ref = s * mat.P_f;
-    Pi = s * mat.Pi_f;
-    ld_factor = 1.0 - mat.perim_a / mat.perim_b * (1.0 - s);
-    kS = mat.shape_stiffness(s);
-  }
-  // q^7 = (rho / rho_ref)^7 and the Tait pressure of eqn (4)
-  double q7(double rho) const
-  {
-    const double q = rho * inv_rho_ref;
-    const double q2 = q * q;
-    return q2 * q2 * q2 * q;
-  }
-  double pressure(double q7, double K) const { return P_ref + K * (q7 - 1.0); }
-};
-
-// the paper's pair coefficient c_i = (k_T (P - P_f) - k_PA (l - l_d)) / 2
-inline double pair_coefficient(double kT, double kPA, double P_f, double press, double perim,
-                               double ldeq)
-{
-  return 0.5 * (kT * (press - P_f) - kPA * (perim - ldeq));
-}
-}    // namespace
-
-/* ----------------------------------------------------------------------
-   the explicit time-step limits of a bead of inertial mass m with nn
-   neighbours, for the forces that are switched on: relative-velocity damping
-   2 m / (1.5 N k_d), turgor 2 / omega with omega^2 = 56 k_T K q^7 / (m sum_gap)
-   (q = rho/rho_ref, sum_gap = sum_k (x_k - d_p)), cell-shape springs
-   sqrt(m / (2 k_S N)), with the fresh k_S, the largest k_S(s) (an upper bound
-   when k_S falls with the dryness). The per-step checks (fluid_pass) use the *_exceeded
-   forms, which compare without a division; f_ID[5] and the errors the limits.
-------------------------------------------------------------------------- */
-
-namespace {
-struct StepLimits {
-  double kd, kT, K, kS;
-  double kd_dt, turgor_dt2, shape_dt2;    // at the time step dt
-
-  StepLimits(const PairCGMS &pair, double dt) :
-      kd(pair.damping ? pair.material().k_d : 0.0), kT(pair.turgor ? pair.material().k_T : 0.0),
-      K(pair.material().K), kS(pair.material().k_S), kd_dt(1.5 * kd * dt),
-      turgor_dt2(56.0 * kT * K * dt * dt), shape_dt2(2.0 * kS * dt * dt)
-  {
-  }
-
-  bool damping_exceeded(double m, double nn) const { return kd_dt * nn > 2.0 * m; }
-  // (omega dt)^2 > bound
-  bool turgor_suspect(double q7, double m, double sum_gap, double bound) const
-  {
-    return turgor_dt2 * q7 > bound * m * sum_gap;
-  }
-  bool shape_exceeded(double m, double nn) const { return shape_dt2 * nn > m; }
-
-  double damping(double m, double nn) const { return 2.0 * m / (1.5 * nn * kd); }
-  double turgor_omega2(double q7, double m, double sum_gap) const
-  {
-    return 56.0 * kT * K * q7 / (m * sum_gap);
-  }
-  double shape(double m, double nn) const { return sqrt(m / (2.0 * kS * nn)); }
-
-  // the smallest of the limits that apply (HUGE_VAL: none)
-  double smallest(double m, double nn, double q7, double sum_gap) const
-  {
-    double limit = HUGE_VAL;
-    if (kd > 0.0) limit = MIN(limit, damping(m, nn));
-    if (kT > 0.0) limit = MIN(limit, 2.0 / sqrt(turgor_omega2(q7, m, sum_gap)));
-    if (kS > 0.0) limit = MIN(limit, shape(m, nn));
-    return limit;
-  }
-};
-}    // namespace
 
 /* ----------------------------------------------------------------------
    a keyword with two values: 0 for the first, 1 for the second (the error
@@ -189,11 +55,10 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), pair(nullptr), list(nullptr), dryness_value(1.0), dryness_var(nullptr),
     dryness_ivar(-1), dryness_given(0), diameter_value(0.0), diameter_var(nullptr),
     diameter_ivar(-1), dryness_every(0), density_rate(0), inertia_fluid(0), transfer(1),
-    transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0),
-    dryness_changed(0), beads_added(0), natoms_known(-1), coef(nullptr), nmax_bead(0),
-    sums(nullptr), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1),
-    passes_done(0), rdist(nullptr), rdist_size(0), rdist_list(nullptr), rdist_valid(0),
-    comm_column(-1), work(nullptr), nmax_work(0), energy_local(0.0), vector_step(-1), setup_done(0)
+    transfer_implicit(1), always_balance(0), minimize_balance(1), allow_isolated(0), beads_added(0),
+    natoms_known(-1), outputs(nullptr), nmax_outputs(0), output_every(0), init_output_every(1),
+    comm_column(DRYNESS), work(nullptr), nmax_work(0), setup_fresh(0), setup_loaded(0),
+    vector_step(-1), setup_done(0)
 {
   if (igroup != 0) error->all(FLERR, "Fix cgms/fluid must be applied to group all");
 
@@ -268,21 +133,21 @@ FixCGMSFluid::FixCGMSFluid(LAMMPS *lmp, int narg, char **arg) :
   size_vector = 5;
   global_freq = 1;
   extvector = 0;
-  // the potential of the quasi-static problem (see update_fluid_state); counted in the
-  // potential energy by default, as minimize needs it for its line search
+  // the potential of the quasi-static problem, which pair_style cgms computes and counts
+  // in its energy (evdwl, so pe: minimize needs it for its line search); the scalar
+  // reports it. energy_global_flag keeps 'fix_modify ID energy' valid (see init).
   scalar_flag = 1;
   extscalar = 1;
   energy_global_flag = 1;
-  thermo_energy = 1;
+  thermo_energy = 0;
   peratom_flag = 1;
   size_peratom_cols = NOUTPUTS;
   peratom_freq = output_every > 0 ? output_every : 1;
-  comm_forward = 1;
-  comm_reverse = 2;
+  comm_forward = 1;        // the dryness of the ghosts
   wd_section = 1;          // the fluid state travels with write_data
   create_attribute = 1;    // set_arrays() learns of beads created during a run
 
-  maxexchange = NOUTPUTS + 2;
+  maxexchange = NOUTPUTS;
   grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);
 }
@@ -295,57 +160,31 @@ FixCGMSFluid::~FixCGMSFluid()
   delete[] dryness_var;
   delete[] diameter_var;
   memory->destroy(work);
-  memory->destroy(coef);
-  memory->destroy(sums);
   memory->destroy(outputs);
-  memory->destroy(rdist);
-}
-
-/* ---------------------------------------------------------------------- */
-
-const double *FixCGMSFluid::distances_for(const NeighList *l) const
-{
-  return rdist_valid && rdist_list == l->firstneigh ? rdist : nullptr;
 }
 
 /* ---------------------------------------------------------------------- */
 
 double FixCGMSFluid::memory_usage()
 {
-  return sizeof(double) *
-      (nmax_bead + (2.0 + NOUTPUTS) * atom->nmax + (double) rdist_size + nmax_work);
+  return sizeof(double) * ((double) NOUTPUTS * atom->nmax + nmax_work);
 }
 
 /* ---------------------------------------------------------------------- */
 
 int FixCGMSFluid::setmask()
 {
-  return PRE_FORCE | MIN_PRE_FORCE;
+  return PRE_FORCE | MIN_PRE_FORCE | POST_FORCE | MIN_POST_FORCE;
 }
 
-/* ----------------------------------------------------------------------
-   a minimizer may end on a tissue folded onto itself: beads inside each other's
-   second shell. The dynamics stops there (the damping check of stop_if_unstable);
-   a minimizer has no such limit and would hand the state on as a steady state.
-------------------------------------------------------------------------- */
+/* ---------------------------------------------------------------------- */
 
 void FixCGMSFluid::post_run()
 {
   // between runs the per-atom array holds the last step's outputs, and any step
   // is compatible with it (write_dump, variables); the next run sets it again
   peratom_freq = output_every > 0 ? output_every : 1;
-  if (update->whichflag != 2 || !sums) return;
-  double most_local = 0.0, most = 0.0;
-  for (int i = 0; i < atom->nlocal; i++) most_local = MAX(most_local, sums[2 * i]);
-  MPI_Allreduce(&most_local, &most, 1, MPI_DOUBLE, MPI_MAX, world);
-  // a hexagonal tissue has 6 neighbours and 12 within its second shell
-  if (most > 12.0 && comm->me == 0)
-    error->warning(FLERR,
-                   "Fix cgms/fluid: minimize ended on a tissue folded onto itself: a bead has "
-                   "{:g} neighbours within the cutoff, where a hexagonal tissue has 6. This is "
-                   "no steady state of a tissue; a cell-shape stiffness (k_S, doc/pair_cgms.rst) "
-                   "or a stiffer perimeter law (k_PA) may prevent it",
-                   most);
+  if (update->whichflag == 2 && neighbour_sums(lmp)) warn_if_folded();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -378,41 +217,34 @@ void FixCGMSFluid::init()
                update->dt);
   if (update->whichflag == 2) limit_minimizer_step();
   peratom_freq = init_output_every = output_frequency();
+  pass_options_to_pair();
 
   neighbor->add_request(this);
 }
 
 /* ----------------------------------------------------------------------
-   LAMMPS's default largest move per minimizer step, dmax = 0.1, is meant for
-   Angstroms; in SI units it is 0.1 m, a whole tissue, and the first line
-   search throws the beads apart. A dmax above one cell is never meant for
-   CGMS: bound it to 1 % of the lattice spacing (min_modify dmax sets it).
+   pair_style cgms computes the fluid state with this fix's settings, and
+   counts the quasi-static energy in its own (evdwl, pe); this fix reports it
+   as its scalar and adds nothing to pe: 'fix_modify ID energy yes' (which
+   once added it here) would count it twice and is dropped with a warning
 ------------------------------------------------------------------------- */
 
-namespace {
-struct MinDmax : public LAMMPS_NS::Min {
-  // Min::dmax is protected and has no accessor; a member pointer of a derived
-  // class may read it
-  static double get(LAMMPS_NS::Min *min) { return min->*(&MinDmax::dmax); }
-};
-}    // namespace
-
-void FixCGMSFluid::limit_minimizer_step()
+void FixCGMSFluid::pass_options_to_pair()
 {
-  if (!update->minimize || !pair) return;
-  const double x_ref = pair->material().x_ref;
-  const double dmax = MinDmax::get(update->minimize);
-  if (dmax <= x_ref) return;
-  std::string value = fmt::format("{:.3g}", 0.01 * x_ref);
-  char key[] = "dmax";
-  char *args[2] = {key, value.data()};
-  update->minimize->modify_params(2, args);
-  if (comm->me == 0)
+  FluidOptions o;
+  o.density_rate = density_rate;
+  o.transfer = transfer;
+  o.transfer_implicit = transfer_implicit;
+  o.always_balance = always_balance;
+  o.minimize_balance = minimize_balance;
+  o.allow_isolated = allow_isolated;
+  pair->set_fluid_options(o);
+  if (thermo_energy && comm->me == 0)
     error->warning(FLERR,
-                   "Fix cgms/fluid: min_modify dmax {:g} m is larger than a cell (x_ref = {:.3g} "
-                   "m; LAMMPS's default 0.1 is meant for Angstroms); minimizing with dmax {} m "
-                   "(set min_modify dmax ~1e-6 to choose it yourself)",
-                   dmax, x_ref, value);
+                   "Fix cgms/fluid: fix_modify {} energy yes is not needed: pair_style cgms "
+                   "counts the quasi-static energy in pe (evdwl) itself",
+                   id);
+  thermo_energy = 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -443,10 +275,8 @@ void FixCGMSFluid::init_list(int, NeighList *ptr)
 void FixCGMSFluid::grow_arrays(int nmax)
 {
   const int nold = nmax_outputs;
-  memory->grow(sums, 2 * nmax, "cgms/fluid:sums");
   memory->grow(outputs, nmax, NOUTPUTS, "cgms/fluid:outputs");
   for (int i = nold; i < nmax; i++) {
-    sums[2 * i] = sums[2 * i + 1] = 0.0;
     for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
   }
   nmax_outputs = nmax;
@@ -455,25 +285,19 @@ void FixCGMSFluid::grow_arrays(int nmax)
 
 void FixCGMSFluid::copy_arrays(int i, int j, int)
 {
-  sums[2 * j] = sums[2 * i];
-  sums[2 * j + 1] = sums[2 * i + 1];
   for (int k = 0; k < NOUTPUTS; k++) outputs[j][k] = outputs[i][k];
 }
 
 int FixCGMSFluid::pack_exchange(int i, double *buf)
 {
-  buf[0] = sums[2 * i];
-  buf[1] = sums[2 * i + 1];
-  for (int k = 0; k < NOUTPUTS; k++) buf[2 + k] = outputs[i][k];
-  return NOUTPUTS + 2;
+  for (int k = 0; k < NOUTPUTS; k++) buf[k] = outputs[i][k];
+  return NOUTPUTS;
 }
 
 int FixCGMSFluid::unpack_exchange(int nlocal, double *buf)
 {
-  sums[2 * nlocal] = buf[0];
-  sums[2 * nlocal + 1] = buf[1];
-  for (int k = 0; k < NOUTPUTS; k++) outputs[nlocal][k] = buf[2 + k];
-  return NOUTPUTS + 2;
+  for (int k = 0; k < NOUTPUTS; k++) outputs[nlocal][k] = buf[k];
+  return NOUTPUTS;
 }
 
 /* ----------------------------------------------------------------------
@@ -484,7 +308,6 @@ int FixCGMSFluid::unpack_exchange(int nlocal, double *buf)
 void FixCGMSFluid::set_arrays(int i)
 {
   beads_added = 1;
-  sums[2 * i] = sums[2 * i + 1] = 0.0;
   for (int k = 0; k < NOUTPUTS; k++) outputs[i][k] = 0.0;
 }
 
@@ -500,15 +323,36 @@ void FixCGMSFluid::setup_pre_force(int)
   peratom_freq = std::gcd(init_output_every, output_frequency());
   vector_step = -1;    // the state may have changed between runs at the same step
   check_setup_input();
-  const bigint loaded = load_data_file_state();
+  setup_loaded = load_data_file_state();
   apply_dryness();
-  const bigint fresh = initialise_beads();
+  setup_fresh = initialise_beads();
   beads_added = 0;
   natoms_known = atom->natoms;
-  update_fluid_state(0);
-  if (fresh > 0 && loaded == 0) warn_if_dried(fresh);
+}
+
+/* ----------------------------------------------------------------------
+   after the pair's passes of the setup: the checks of the user's geometry
+   (before the stability checks, which would blame the time step), then as
+   after every force evaluation
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::setup(int)
+{
+  if (pair->passes_needed()) check_setup_geometry();
+  post_force(0);
+  if (setup_fresh > 0 && setup_loaded == 0) warn_if_dried(setup_fresh);
   setup_done = 1;
 }
+
+void FixCGMSFluid::min_setup(int vflag)
+{
+  setup(vflag);
+}
+
+/* ----------------------------------------------------------------------
+   a time step: the dryness schedule, then the mass transfer of the previous
+   step, before pair_style cgms computes the fluid state from it
+------------------------------------------------------------------------- */
 
 void FixCGMSFluid::pre_force(int)
 {
@@ -516,13 +360,54 @@ void FixCGMSFluid::pre_force(int)
     apply_dryness();
   else
     refresh_ghost_dryness();
-  update_fluid_state(1);
+  const int fresh = bead_without_state();
+  if (fresh >= 0) fresh_bead_error(fresh);
+  if (transfer && pair->passes_needed()) advance_fluid_mass();
 }
 
 void FixCGMSFluid::min_pre_force(int)
 {
   refresh_ghost_dryness();
-  update_fluid_state(0);
+  const int fresh = bead_without_state();
+  if (fresh >= 0) fresh_bead_error(fresh);
+}
+
+/* ----------------------------------------------------------------------
+   after every force evaluation: what the pair's fluid pass found beyond a
+   limit stops the run; the per-atom outputs on the steps that write them
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::post_force(int)
+{
+  if (pair->passes_needed()) stop_if_unstable(pair->trouble());
+  if (output_step()) fill_outputs();
+}
+
+void FixCGMSFluid::min_post_force(int vflag)
+{
+  post_force(vflag);
+}
+
+/* ----------------------------------------------------------------------
+   the mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
+   (doc/model.md, When the mass transfer is applied): at the start of step
+   n+1 rather than at the end of n, so that the state at the end of a step
+   (and so in a restart file) is the one its forces were computed from
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::advance_fluid_mass()
+{
+  double **cg = bead_array(lmp);
+  double *rmass = atom->rmass;
+  const double dt = update->dt;
+  int emptied = -1;
+  for (int i = 0; i < atom->nlocal; i++) {
+    double *c = cg[i];
+    c[MF] += dt * c[DMDT];
+    if (!(c[MF] > 0.0) && emptied < 0) emptied = i;
+    if (inertia_fluid) rmass[i] = c[MF] + c[MS];
+  }
+  if (emptied >= 0) emptied_error(emptied);
 }
 
 /* ----------------------------------------------------------------------
@@ -575,7 +460,7 @@ void FixCGMSFluid::apply_dryness()
     const double *value = per_bead_values(dryness_ivar, dryness_value);
     for (int i = 0; i < nlocal; i++) {
       // a bead that already has a fluid state and gets a new dryness
-      if (cg[i][MF0] > 0.0 && cg[i][DRYNESS] != value[i]) dryness_changed = 1;
+      if (cg[i][MF0] > 0.0 && cg[i][DRYNESS] != value[i]) pair->note_dryness_changed();
       cg[i][DRYNESS] = value[i];
     }
   }
@@ -601,36 +486,6 @@ void FixCGMSFluid::apply_dryness()
 }
 
 /* ----------------------------------------------------------------------
-   the model's dryness laws hold only where they stay positive: the LJ radius
-   r0 (1 + lj_slope ln s) and the periphery factor beta_a + beta_b ln s. Both
-   are monotonic in s, so the extremes of the range decide.
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::check_dryness_range(double s_min, double s_max)
-{
-  const Material &mat = pair->material();
-  for (double s : {s_min, s_max}) {
-    if (!(mat.lj_radius(s) > 0.0))
-      error->all(FLERR,
-                 "Fix cgms/fluid: at dryness {:.6g} the LJ radius r0 (1 + lj_slope ln s) = {:.4g} "
-                 "m is not positive; this material (lj_slope {:g}) needs a dryness above "
-                 "exp(-1/lj_slope) = {:.4g}",
-                 s, mat.lj_radius(s), mat.lj_slope, exp(-1.0 / mat.lj_slope));
-    if (pair->periphery && !(mat.beta(s) > 0.0)) {
-      const std::string lowest = mat.beta_b > 0.0
-          ? fmt::format("needs a dryness above exp(-beta_a/beta_b) = {:.4g}",
-                        exp(-mat.beta_a / mat.beta_b))
-          : std::string("gives no positive beta at this dryness; check beta_a and beta_b");
-      error->all(FLERR,
-                 "Fix cgms/fluid: at dryness {:.6g} the periphery factor beta = beta_a + "
-                 "beta_b ln s = {:.4g} is not positive (boundary cells would get a negative "
-                 "side); this material (beta_a {:g}, beta_b {:g}) {}",
-                 s, mat.beta(s), mat.beta_a, mat.beta_b, lowest);
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
    beads read from a data file or created carry MF0 <= 0: give them the
    reference cell at their dryness (doc/model.md, Reference cell and initial state)
 ------------------------------------------------------------------------- */
@@ -653,12 +508,11 @@ bigint FixCGMSFluid::initialise_beads()
       // the reference cell of doc/model.md, for this bead's cell diameter
       const double d = diameter[i];
       if (!(d > 0.0) && bad < 0) bad = i;
-      const double area_ref = MY_PI * d * d / 4.0;
-      const double l_ref = 6.0 * sqrt(2.0 * area_ref / (3.0 * SQRT3));
-      const double mf0 = mat.rho0 * mat.height * area_ref;
+      const ReferenceCell cell = reference_cell(d, mat.pectin);
+      const double mf0 = mat.rho0 * mat.height * cell.A_ref;
       const double s = c[DRYNESS];
       c[MF0] = mf0;
-      c[L0P] = mat.turgid_ratio * l_ref;
+      c[L0P] = mat.turgid_ratio * cell.l_ref;
       c[MF] = s * mf0;
       c[MS] = mat.solid_ratio * s * mf0;
       c[RHO] = s * mat.rho0;
@@ -726,39 +580,6 @@ bigint FixCGMSFluid::load_data_file_state()
 }
 
 /* ----------------------------------------------------------------------
-   a tissue read from a data file without the fluid state starts fresh at
-   its dryness; if its beads sit much closer than the fresh cells they got,
-   it was most likely dried before and written without the state
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::warn_if_dried(bigint fresh)
-{
-  if (!pair->pair_coefficient_needed() && !transfer) return;    // no geometry computed
-  const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
-  // interior beads (six neighbours or more): their side against the reference side
-  double local[2] = {0.0, 0.0}, global[2];
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (sums[2 * i] < 6.0) continue;
-    const double b_ref = cg[i][L0P] / (6.0 * mat.turgid_ratio);
-    const double beta = pair->periphery ? mat.beta(cg[i][DRYNESS]) : 1.0;
-    local[0] += cell_side(sums[2 * i], sums[2 * i + 1], beta, mat.pectin, mat.b_ref) / b_ref;
-    local[1] += 1.0;
-  }
-  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
-  if (global[1] == 0.0) return;
-  const double ratio = global[0] / global[1];
-  if (ratio < 0.9 && comm->me == 0)
-    error->warning(FLERR,
-                   "Fix cgms/fluid: {} beads start from the fresh reference cell, but the "
-                   "cells are {:.0f} % smaller in side than that cell: if this tissue was dried "
-                   "and written by write_data, its fluid state is lost; read the data file "
-                   "with 'read_data FILE fix {} NULL {}' (files written by write_data with "
-                   "fix cgms/fluid defined carry it)",
-                   fresh, 100.0 * (1.0 - ratio), DATA_FIX, DATA_SECTION);
-}
-
-/* ----------------------------------------------------------------------
    write_data: the section DATA_SECTION, one line "id value ..." per bead with
    its state row, at full precision
 ------------------------------------------------------------------------- */
@@ -803,598 +624,20 @@ void FixCGMSFluid::write_data_section(int, FILE *fp, int n, double **buf, int)
 }
 
 /* ----------------------------------------------------------------------
-   geometry (eqns 10-11), density, pressure (eqn 4), l_d (eqn 9), the mass
-   rate (eqn 7) and the pair coefficient, for every local bead.
-   advance = 1 (a time step): first the mass transfer of the previous step,
-   m_f(n+1) = m_f(n) + dt dm_f/dt(n), and one step of the rate form of the
-   density, eqns (5)-(6). advance = 0 (setup, minimize): neither.
-   The mass transfer of step n is applied at the start of step n+1 rather
-   than at its end: the same update, but the state at the end of a step (and
-   so in a restart file) is the one its forces were computed from, so a
-   restarted run recomputes the same forces at setup.
-   transfer/scheme implicit stores dm_f/dt / (1 + dt lambda): a linearised
-   backward Euler step, stable at any dt; the explicit step (the paper's) is
-   unstable once dt lambda > 2, which a bead compressed by a third reaches at
-   dt = 1e-7 s since lambda grows as (rho/rho_ref)^7. Same fixed point.
+   beads without a fluid state (MF0 <= 0) can appear only where beads were
+   created during the run (set_arrays) or the atom count changed: looked for
+   only then, not for every bead in every step. Returns the first, or -1.
 ------------------------------------------------------------------------- */
 
-void FixCGMSFluid::update_fluid_state(int advance)
+int FixCGMSFluid::bead_without_state()
 {
-  energy_local = 0.0;
-  // with turgor, perimeter and mass transfer all off nothing reads this state
-  if (!pair->pair_coefficient_needed() && !transfer) {
-    if (output_step()) fill_outputs();
-    return;
-  }
-
-  geometry_pass();
-  // before the stability checks, which would blame the time step
-  if (update->setupflag) check_setup_geometry();
-  Trouble trouble;
-  fluid_pass(advance, trouble);
-  stop_if_unstable(trouble);
-  passes_done = 1;
-  if (output_step()) fill_outputs();
-  if (pair->pair_coefficient_needed()) forward(-1);
-}
-
-/* ----------------------------------------------------------------------
-   geometry: neighbour count and sum of centre distances of every bead (the
-   compact sums, summed over ranks with newton on), and the distance of every
-   neighbour-list entry for the pair's force loop
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::geometry_pass()
-{
-  const Material &mat = pair->material();
-  double **x = atom->x;
+  if (!beads_added && atom->natoms == natoms_known) return -1;
   double **cg = bead_array(lmp);
-  const int nlocal = atom->nlocal;
-  const int nall = nlocal + atom->nghost;
-  const int newton_pair = force->newton_pair;
-  const double cut = pair->cutoff();
-  const double cutsq_fixed = cut * cut;
-  const int scaled = pair->cutoff_scaled();
-  const double s_uniform = pair->get_uniform_dryness();
-  const int uniform = s_uniform > 0.0;
-  const double cutsq_uniform = scaled && uniform ? pair->pair_cutsq(mat.lj_radius(s_uniform))
-                                                 : cutsq_fixed;
-  const int per_pair_cutoff = scaled && !uniform;
-
-  if (atom->nmax > nmax_bead) {
-    nmax_bead = atom->nmax;
-    memory->destroy(coef);
-    memory->create(coef, nmax_bead, "cgms/fluid:coef");
-  }
-  // the list's length, read every pass: neighbor->ncalls cannot tell one build from
-  // another (Verlet and Min set it to 0 after their setup build, so the builds of
-  // consecutive runs, e.g. the 'run 0' of every Newton force evaluation, repeat its values)
-  // and a list that grows between runs would overrun rdist
-  const bigint npairs = list_entries(list, comm->nthreads);
-  if (npairs > rdist_size) {
-    rdist_size = npairs + npairs / 4;
-    memory->destroy(rdist);
-    memory->create(rdist, rdist_size, "cgms/fluid:rdist");
-  }
-  // local copies: the loops then keep them in registers
-  double *const sums = this->sums;
-  double *const rdist = this->rdist;
-  bigint k = 0;
-  const int nclear = newton_pair ? nall : nlocal;
-  for (int k = 0; k < 2 * nclear; k++) sums[k] = 0.0;
-
-  const int inum = list->inum;
-  const int *ilist = list->ilist;
-  const int *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
-  double s_last = -1.0, rad_last = 0.0;
-  for (int ii = 0; ii < inum; ii++) {
-    const int i = ilist[ii];
-    const double xtmp = x[i][0];
-    const double ytmp = x[i][1];
-    // the per-bead row only for a cutoff that varies by pair (a cache line per bead
-    // on large tissues); there one log per change of s, not per bead
-    const double si = per_pair_cutoff ? cg[i][DRYNESS] : 0.0;
-    if (per_pair_cutoff && si != s_last) {
-      s_last = si;
-      rad_last = mat.lj_radius(si);
-    }
-    const double radi = rad_last;
-    const int *jlist = firstneigh[i];
-    const int jnum = numneigh[i];
-    double n = 0.0, sum = 0.0;
-    for (int jj = 0; jj < jnum; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double delx = xtmp - x[j][0];
-      const double dely = ytmp - x[j][1];
-      const double rsq = delx * delx + dely * dely;
-      if (rsq >= (per_pair_cutoff ? pair->pair_cutsq(pair->pair_radius(si, cg[j][DRYNESS], radi))
-                                  : cutsq_uniform)) {
-        rdist[k++] = 0.0;
-        continue;
-      }
-      const double r = sqrt(rsq);
-      rdist[k++] = r;
-      n += 1.0;
-      sum += r;
-      if (newton_pair || j < nlocal) {
-        sums[2 * j] += 1.0;
-        sums[2 * j + 1] += r;
-      }
-    }
-    sums[2 * i] += n;
-    sums[2 * i + 1] += sum;
-  }
-  rdist_list = list->firstneigh;
-  rdist_valid = 1;
-  if (newton_pair) comm->reverse_comm(this);
-}
-
-/* ----------------------------------------------------------------------
-   fluid state of every local bead: eqns (10-11), density, eqn (4), eqn (9),
-   eqn (7), the pair coefficient, the quasi-static energy, and the beads that
-   break a stability limit (stop_if_unstable() reports them)
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::fluid_pass(int advance, Trouble &trouble)
-{
-  const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
-  const int nlocal = atom->nlocal;
-
-  // Divisions are the cost here: constants
-  // are hoisted, quantities that depend only on the dryness are recomputed
-  // when it changes from one bead to the next, and one reciprocal of the
-  // area serves the density and the implicit mass update.
-
-  const double dt = update->dt;
-  const double kT = pair->turgor ? mat.k_T : 0.0;
-  const double kPA = pair->perimeter ? mat.k_PA : 0.0;
-  const double kS = mat.k_S;
-  const double P_f = mat.P_f, K = mat.K, pectin = mat.pectin, b_ref = mat.b_ref;
-  const double inv_h = 1.0 / mat.height;
-  const double conductance = mat.height * mat.L_p;    // membrane area l h times L_p, per l
-  const double L_p = mat.L_p;
-  const int advance_mass = advance && transfer;
-  // the quasi-static solve: under minimize every bead holds the pressure of
-  // the steady state, P = -Pi (doc/model.md, Steady state), its density from eqn (4) and the
-  // fluid mass that density fills its current cell with
-  const int balance = always_balance || (minimize_balance && update->whichflag == 2);
-  double *rmass = atom->rmass;
-  const int turgor_check = kT > 0.0 && !balance;
-  // right after a change of dryness, beads keep the fluid of the old level against the
-  // reference of the new one: a large change compresses them at once, the pressure
-  // spikes, and a step with omega dt > 2 blows up (s from 1 to 0.5: omega dt 2.7 for a
-  // bead with one neighbour). There the strict explicit limit applies (see below).
-  const double turgor_bound = dryness_changed ? 4.0 : 16.0;    // (omega dt)^2
-  trouble.after_change = dryness_changed;
-  dryness_changed = 0;
-  // the cell-shape term is a spring network of stiffness about 2 k_S per pair: omega^2
-  // up to 8 k_S N / m, so the explicit step needs 2 k_S N dt^2 < m (the largest stable
-  // k_S measured on a fresh 10 x 12 tissue at 1e-7 s lies between 1000 and 1200 N/m;
-  // this gives 970: the damping uses up part of the margin)
-  const int shape_check = kS > 0.0 && !balance;
-  // its energy is needed only where LAMMPS tallies energies (a second walk over the list)
-  const int shape_energy = kS > 0.0 && (balance || update->eflag_global == update->ntimestep);
-  const StepLimits limits(*pair, dt);
-  // found beads in locals (registers) during the loop, into trouble after it
-  int isolated = -1, nonfinite = -1, emptied = -1, unstable = -1, stiff = -1, shaky = -1;
-  double stiff_ratio = 0.0, stiff_limit = 0.0;
-  const double *const sums = this->sums;
-  double *const coef = this->coef;
-
-  // beads without a fluid state (MF0 <= 0) can appear only where beads were created
-  // during the run (set_arrays) or the atom count changed: looked for only then, not
-  // for every bead in every step
-  if (beads_added || atom->natoms != natoms_known) {
-    for (int i = 0; i < nlocal; i++)
-      if (cg[i][MF0] <= 0.0) {
-        trouble.fresh = i;
-        return;
-      }
-    beads_added = 0;
-    natoms_known = atom->natoms;
-  }
-
-  DrynessLaws at;
-  const int periphery = pair->periphery;
-  for (int i = 0; i < nlocal; i++) {
-    double *c = cg[i];
-
-    // mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
-    if (advance_mass) {
-      c[MF] += dt * c[DMDT];
-      if (!(c[MF] > 0.0) && emptied < 0) emptied = i;
-      if (inertia_fluid) rmass[i] = c[MF] + c[MS];
-    }
-
-    const double s = c[DRYNESS];
-    if (s != at.s) at.set(s, mat, periphery);
-    const double beta = at.beta, inv_rho_ref = at.inv_rho_ref, P_ref = at.P_ref, Pi = at.Pi;
-
-    const double nn = sums[2 * i];
-    if (!(nn > 0.0) && !allow_isolated && isolated < 0) isolated = i;
-    const double b = cell_side(nn, sums[2 * i + 1], beta, pectin, b_ref);
-    const double area = HEX_AREA * b * b;
-    const double inv_area = 1.0 / area;
-    const double perim = 6.0 * b;
-
-    double rho;
-    if (balance) {
-      const double q7_balance = 1.0 + (-Pi - P_ref) / K;
-      rho = pow(q7_balance, 1.0 / 7.0) / inv_rho_ref;
-      c[MF] = rho * mat.height * area;
-    } else if (density_rate && c[AREA] > 0.0) {
-      if (advance) {
-        const double inv_area_old = 1.0 / c[AREA];
-        rho =
-            c[RHO] - c[RHO] * (area - c[AREA]) * inv_area_old + dt * c[DMDT] * inv_h * inv_area_old;
-      } else {
-        rho = c[RHO];
-      }
-    } else {
-      rho = c[MF] * inv_h * inv_area;
-    }
-
-    const double q7 = at.q7(rho);
-    const double press = at.pressure(q7, K);
-    const double ldeq = c[L0P] * at.ld_factor;
-
-    // eqn (7), and for the implicit scheme divided by 1 + dt lambda with
-    // lambda = -d(dm_f/dt)/dm_f = L_p (l/A) (P + Pi + 7 K q^7) when positive
-    // (d rho/d m_f = rho/m_f at fixed geometry, dP/d rho = 7 K q^6 / rho_ref)
-    double dmdt = 0.0;
-    if (transfer && !balance) {
-      dmdt = -perim * conductance * rho * (press + Pi);
-      if (transfer_implicit) {
-        const double lambda = L_p * perim * inv_area * (press + Pi + 7.0 * K * q7);
-        if (lambda > 0.0) dmdt /= 1.0 + dt * lambda;
-      }
-    }
-
-    // the state row only (one cache line); the outputs (N, side, perimeter,
-    // pressure, l_d, the coefficient) are derived from it and the sums when an
-    // output asks (for_each_output)
-    c[AREA] = area;
-    c[RHO] = rho;
-    c[DMDT] = dmdt;
-    coef[i] = pair_coefficient(kT, kPA, P_f, press, perim, ldeq);
-    // the cell-shape term's share of bead i, k_S xbar_i (xbar_i = sum_k x_ik / N);
-    // the per-atom output keeps the paper's turgor and perimeter coefficient
-    if (kS > 0.0 && nn > 0.0) coef[i] += at.kS * sums[2 * i + 1] / nn;
-    // with the pressures held, turgor and perimeter forces are the gradient of
-    //   E_i = -k_T/2 (P_i - P_f) sum_k x_ik + k_PA (l_i - l_d,i)^2 / (4 g_i),
-    // g_i = dl_i/dx_ik = (N + beta max(0, 6 - N)) / (sqrt(3) N), as long as no
-    // neighbour crosses the cutoff: so minimize can do line searches on them.
-    if (balance && nn > 0.0) {
-      const double dl_dx = (nn + beta * MAX(0.0, 6.0 - nn)) / (SQRT3 * nn);
-      const double excess = perim - ldeq;
-      energy_local +=
-          -0.5 * kT * (press - P_f) * sums[2 * i + 1] + 0.25 * kPA * excess * excess / dl_dx;
-    }
-    // The cell-shape energy k_S(s_i)/2 sum_k (x_ik - xbar_i)^2 does not depend on the
-    // pressures: it is a potential in any run. Its -k_S(s_i)/2 N xbar_i^2 here, its
-    // sum over pairs of (k_S(s_i) + k_S(s_k))/2 x^2 in shape_pair_energy()
-    if (shape_energy && nn > 0.0)
-      energy_local -= 0.5 * at.kS * sums[2 * i + 1] * sums[2 * i + 1] / nn;
-    if (!std::isfinite(press) && nonfinite < 0) nonfinite = i;
-    // turgor stiffness: eqn (4) makes a compressed bead a stiff spring. A neighbour
-    // distance change dx changes P by 14 K q^7 dx / sum_k (x_k - d_p); for a bead pair
-    // (reduced mass m/2) that gives omega^2 = 56 k_T K q^7 / (m sum_k (x_k - d_p)), and
-    // the explicit update needs omega dt < 2. The estimate is rough: a squeezed pair at
-    // omega dt = 2.8 relaxes before it can blow up, so the run stops only past 4, which
-    // the blow-ups seen (a pair squeezed to 0.4 x_ref, a dryness jump) reach within a step.
-    // Not under a quasi-static solve: there the pressure does not follow the geometry.
-    if (turgor_check && nn > 0.0) {
-      // (omega dt)^2 > 16 without a division in the common case
-      const double sum_gap = sums[2 * i + 1] - nn * pectin;
-      if (limits.turgor_suspect(q7, rmass[i], sum_gap, turgor_bound)) {
-        const double omega2 = limits.turgor_omega2(q7, rmass[i], sum_gap);
-        const double ratio = dt * dt * omega2 / 4.0;    // (omega dt / 2)^2
-        if (ratio > stiff_ratio) {
-          stiff = i;
-          stiff_ratio = ratio;
-          stiff_limit = 2.0 / sqrt(omega2);
-        }
-      }
-    }
-    if (shape_check && limits.shape_exceeded(rmass[i], nn) &&
-        (shaky < 0 || rmass[i] * sums[2 * shaky] < rmass[shaky] * nn))
-      shaky = i;
-    // damping stability (see damping_limit_error): the smallest m / N fails first
-    if (limits.damping_exceeded(rmass[i], nn) &&
-        (unstable < 0 || rmass[i] * sums[2 * unstable] < rmass[unstable] * nn))
-      unstable = i;
-  }
-
-  if (shape_energy) energy_local += shape_pair_energy();
-
-  trouble.isolated = isolated;
-  trouble.nonfinite = nonfinite;
-  trouble.emptied = emptied;
-  trouble.unstable = unstable;
-  trouble.stiff = stiff;
-  trouble.shaky = shaky;
-  trouble.stiff_ratio = stiff_ratio;
-  trouble.stiff_limit = stiff_limit;
-}
-
-/* ---------------------------------------------------------------------- */
-
-void FixCGMSFluid::stop_if_unstable(const Trouble &t)
-{
-  const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
-  const double *rmass = atom->rmass;
-  const double dt = update->dt;
-  const int fresh = t.fresh, emptied = t.emptied, isolated = t.isolated;
-  const int nonfinite = t.nonfinite, unstable = t.unstable, shaky = t.shaky, stiff = t.stiff;
-
-  if (fresh >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} appeared during the run at step {} (e.g. from fix "
-               "deposit or fix pour) and has no fluid state: CGMS gives beads their state at "
-               "setup; add beads between runs (create_atoms, then run)",
-               atom->tag[fresh], update->ntimestep);
-
-  if (emptied >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
-               "unstable; reduce the time step (now {:.6g} s)",
-               atom->tag[emptied], cg[emptied][MF], update->ntimestep, dt);
-  if (isolated >= 0) isolated_error(isolated);
-  if (nonfinite >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has a non-finite pressure at step {}: the simulation "
-               "became unstable; reduce the time step (now {:.6g} s)",
-               atom->tag[nonfinite], update->ntimestep, dt);
-  if (unstable >= 0) damping_limit_error(unstable);
-  if (shaky >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the cell-shape "
-               "stiffness k_S = {:g} N/m at step {}, about {:.4g} s = sqrt(m / (2 k_S N)) for "
-               "bead {} (m = {:.4g} kg, N = {:g}): use a smaller timestep or k_S",
-               dt, mat.k_S, update->ntimestep,
-               StepLimits(*pair, dt).shape(rmass[shaky], sums[2 * shaky]), atom->tag[shaky],
-               rmass[shaky], sums[2 * shaky]);
-  if (stiff >= 0 && t.after_change)
-    error->one(FLERR,
-               "Fix cgms/fluid: the change of dryness at step {} compresses bead {} to {:.4g} "
-               "times its new reference density, and its turgor force is then above the "
-               "stability limit, about {:.4g} s = 2 / omega (omega dt = {:.3g} at dt = {:.4g} "
-               "s): change the dryness in smaller steps (e.g. a ramp with 'every'; when the "
-               "dryness comes from fix cgms/transport, a shorter moisture step: its keywords "
-               "dt or adapt), or use a smaller timestep",
-               update->ntimestep, atom->tag[stiff],
-               cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0), t.stiff_limit,
-               2.0 * sqrt(t.stiff_ratio), dt);
-  if (stiff >= 0)
-    error->one(
-        FLERR,
-        "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the turgor "
-        "force at step {}, about {:.4g} s = 2 / omega (omega dt = {:.3g}) for bead {}, whose "
-        "fluid is compressed to {:.4g} times its reference density: use a smaller "
-        "timestep",
-        dt, update->ntimestep, t.stiff_limit, 2.0 * sqrt(t.stiff_ratio), atom->tag[stiff],
-        cg[stiff][RHO] / (cg[stiff][DRYNESS] * mat.rho0));
-}
-
-/* ----------------------------------------------------------------------
-   positions and velocities come from the user (data file, set, velocity):
-   a non-finite one would surface later as a pressure or time-step error
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::check_setup_input()
-{
-  double **x = atom->x;
-  double **v = atom->v;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    for (int d = 0; d < 2; d++) {
-      if (!std::isfinite(x[i][d]))
-        error->one(FLERR, "Fix cgms/fluid: bead {} has a non-finite position ({} = {}) at setup",
-                   atom->tag[i], d ? "y" : "x", x[i][d]);
-      if (!std::isfinite(v[i][d]))
-        error->one(FLERR,
-                   "Fix cgms/fluid: bead {} has a non-finite velocity (v{} = {}) at setup; "
-                   "check the data file's Velocities section and any set or velocity command",
-                   atom->tag[i], d ? "y" : "x", v[i][d]);
-    }
-  }
-}
-
-/* ----------------------------------------------------------------------
-   what a user's tissue can get wrong from the start, seen at setup where it
-   can be named: two beads closer than the pectin layer (their cell side
-   would be negative), and far more neighbours than a hexagonal tissue has
-   (the cutoff or the spacing does not fit the material)
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::check_setup_geometry()
-{
-  const Material &mat = pair->material();
-  double **x = atom->x;
-  const tagint *tag = atom->tag;
-  const int nlocal = atom->nlocal;
-
-  // the closest pair of this rank's list
-  double closest = HUGE_VAL;
-  int ci = -1, cj = -1;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    const int *jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double dx = x[i][0] - x[j][0];
-      const double dy = x[i][1] - x[j][1];
-      const double rsq = dx * dx + dy * dy;
-      if (rsq < closest) {
-        closest = rsq;
-        ci = i;
-        cj = j;
-      }
-    }
-  }
-  closest = sqrt(closest);
-  // a hexagonal tissue has 6 neighbours and 12 within its second shell
-  int crowded = -1;
-  for (int i = 0; i < nlocal; i++)
-    if (sums[2 * i] > 12.0 && (crowded < 0 || sums[2 * i] > sums[2 * crowded])) crowded = i;
-  if (crowded >= 0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff at setup, "
-               "where a hexagonal tissue has 6: the cutoff ({:.4g} m) does not fit the bead "
-               "spacing of this tissue (nearest beads {:.4g} m apart here; the material's "
-               "lattice spacing x_ref = sqrt(3) b_ref + d_p = {:.4g} m). Check pair_style "
-               "cutoff, the material's diameter and pectin, and the data file's units",
-               tag[crowded], sums[2 * crowded], pair->cutoff(), closest, mat.x_ref);
-
-  if (closest <= mat.pectin)
-    error->one(FLERR,
-               "Fix cgms/fluid: beads {} and {} are {:.4g} m apart at setup, {} the pectin "
-               "layer d_p = {:.4g} m that separates two cells (lattice spacing x_ref = {:.4g} "
-               "m): check the data file for overlapping or duplicated beads",
-               tag[ci], tag[cj], closest,
-               closest == 0.0 ? "at the same position, inside" : "closer than", mat.pectin,
-               mat.x_ref);
-}
-
-/* ----------------------------------------------------------------------
-   a bead without neighbours: say how far its nearest bead is, and whether
-   the dryness-scaled cutoff shrank below the spacing (low dryness)
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::isolated_error(int i)
-{
-  const Material &mat = pair->material();
-  double **x = atom->x;
-  const double s = bead_array(lmp)[i][DRYNESS];
-  double nearest = HUGE_VAL;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int a = list->ilist[ii];
-    const int *jlist = list->firstneigh[a];
-    for (int jj = 0; jj < list->numneigh[a]; jj++) {
-      const int b = jlist[jj] & NEIGHMASK;
-      if (a != i && b != i) continue;
-      const double dx = x[a][0] - x[b][0];
-      const double dy = x[a][1] - x[b][1];
-      nearest = MIN(nearest, sqrt(dx * dx + dy * dy));
-    }
-  }
-  const std::string where = nearest < HUGE_VAL
-      ? fmt::format("its nearest bead is {:.4g} m away", nearest)
-      : std::string("no bead lies within the cutoff plus the neighbor skin");
-  std::string why;
-  const double rad = mat.lj_radius(s);
-  const double cut = sqrt(pair->pair_cutsq(rad));
-  // a scaled cutoff that has shrunk to about the fresh spacing (jittered tissues
-  // have neighbours up to 15 % beyond x_ref)
-  if (pair->cutoff_scaled() && cut < 1.15 * mat.x_ref) {
-    // a fresh tissue (spacing x_ref) keeps its neighbours while cut(s) > x_ref
-    const double fresh_lowest =
-        exp((mat.x_ref / sqrt(pair->pair_cutsq(mat.r0)) - 1.0) / mat.lj_slope);
-    why = fmt::format(
-        "; at dryness {:.4g} the cutoff is {:.4g} m (cutoff/lj times the LJ radius r0 (1 + "
-        "lj_slope ln s) = {:.4g} m), which shrinks with the dryness faster than a tissue "
-        "that has not dried yet (a fresh tissue keeps its neighbours down to a dryness of "
-        "about {:.3g}): start from a tissue dried closer to this level, or lower the dryness "
-        "gradually (a variable ramp with 'every')",
-        s, cut, rad, fresh_lowest);
-  } else if (update->whichflag == 2) {
-    why = fmt::format("; the minimizer moved it away from the tissue (cutoff {:.4g} m): use "
-                      "min_style fire or cg with min_modify dmax ~1e-6, which move beads in "
-                      "small steps",
-                      cut);
-  }
-  error->one(FLERR,
-             "Fix cgms/fluid: bead {} has no neighbour within the pair cutoff (use 'isolated "
-             "allow' to give isolated beads the reference cell) at step {}: {}{}",
-             atom->tag[i], update->ntimestep, where, why);
-}
-
-/* ----------------------------------------------------------------------
-   the relative-velocity damping is explicit: stable while
-   k_d lambda_max dt / m < 2, lambda_max the largest eigenvalue of the bead
-   graph's Laplacian. It is 9 for the hexagonal lattice (N = 6); the check
-   uses 1.5 N_i per bead, which is that value and grows with denser
-   neighbourhoods. (doc/model.md, Time integration: s = 0.3 with the paper's inertia explodes at
-   dt = 5e-8 s and runs at 3e-8 s; this gives 3.9e-8 s at the start.)
-   Checked at setup and, since masses and neighbour counts change, every step.
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::damping_limit_error(int i)
-{
-  const double m = atom->rmass[i];
-  const double nn = sums[2 * i];
-  // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
-  // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
-  // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does;
-  // with k_S(s) it is the dried cells' stiffness, far below k_S, that may be too weak
-  const Material &mat = pair->material();
-  const double kS = mat.k_S;
-  if (nn > 6.0 && update->setupflag)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has {:g} neighbours within the pair cutoff ({:.4g} m) "
-               "at setup, more than the 6 of a hexagonal tissue, and the damping is unstable "
-               "with them at dt = {:.4g} s: the cutoff does not fit the bead spacing (material "
-               "lattice spacing x_ref = {:.4g} m); check pair_style cutoff, the material's "
-               "diameter and pectin, and the data file",
-               atom->tag[i], nn, pair->cutoff(), update->dt, pair->material().x_ref);
-  if (nn > 6.0)
-    error->one(FLERR,
-               "Fix cgms/fluid: bead {} has {:g} neighbours within the cutoff at step {}, more "
-               "than the 6 of a hexagonal tissue: the tissue is collapsing (beads crowding "
-               "past the weak LJ repulsion), and the damping is unstable at dt = {:.4g} s; a "
-               "smaller time step does not cure this. The paper's forces do not resist shear; "
-               "{} prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)",
-               atom->tag[i], nn, update->ntimestep, update->dt,
-               kS > 0.0 && mat.k_S_exponent != 0.0
-                   ? fmt::format("a larger cell-shape stiffness of the dried cells, k_S(s) = "
-                                 "max(k_S s^n, k_S_floor) with k_S = {:g} N/m, n = {:g}, "
-                                 "k_S_floor = {:g} N/m, may",
-                                 kS, mat.k_S_exponent, mat.k_S_floor)
-                   : kS > 0.0
-                   ? fmt::format("a cell-shape stiffness above k_S = {:g} N/m may", kS)
-                   : std::string("a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
-                                 "line) may"));
-  error->one(FLERR,
-             "Fix cgms/fluid: time step {:.4g} s is above the stability limit of the damping at "
-             "step {}, about {:.4g} s = 2 m / (1.5 N k_d) for bead {} (m = {:.4g} kg, N = {:g}): "
-             "use a smaller timestep{}",
-             update->dt, update->ntimestep, StepLimits(*pair, update->dt).damping(m, nn),
-             atom->tag[i], m, nn, inertia_fluid ? " or 'inertia fresh'" : "");
-}
-
-/* ---------------------------------------------------------------------- */
-
-double FixCGMSFluid::shape_pair_energy() const
-{
-  // sum over neighbour pairs of (k_S(s_i) + k_S(s_k))/2 x^2 (x counted once from
-  // each end), from the distances pass 1 cached per entry of the half list (0:
-  // beyond the cutoff); without newton_pair a pair with a ghost is in the lists of
-  // both of its ranks. k_S(s) differs between beads only with an exponent and a
-  // dryness that varies (then forwarded to the ghosts, see pre_force)
-  const Material &mat = pair->material();
-  const double s_uniform = pair->get_uniform_dryness();
-  const int by_bead = mat.k_S_exponent != 0.0 && s_uniform <= 0.0;
-  const double kS = by_bead ? 0.0 : mat.shape_stiffness(s_uniform > 0.0 ? s_uniform : 1.0);
-  double **cg = bead_array(lmp);
-  const int nlocal = atom->nlocal;
-  const int newton_pair = force->newton_pair;
-  double energy = 0.0;
-  bigint k = 0;
-  for (int ii = 0; ii < list->inum; ii++) {
-    const int i = list->ilist[ii];
-    const int *jlist = list->firstneigh[i];
-    const double kSi = by_bead ? mat.shape_stiffness(cg[i][DRYNESS]) : kS;
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const double r = rdist[k++];
-      const int j = jlist[jj] & NEIGHMASK;
-      const double kS_pair = by_bead ? 0.5 * (kSi + mat.shape_stiffness(cg[j][DRYNESS])) : kS;
-      energy += (newton_pair || j < nlocal ? 1.0 : 0.5) * kS_pair * r * r;
-    }
-  }
-  return energy;
+  for (int i = 0; i < atom->nlocal; i++)
+    if (cg[i][MF0] <= 0.0) return i;
+  beads_added = 0;
+  natoms_known = atom->natoms;
+  return -1;
 }
 
 /* ----------------------------------------------------------------------
@@ -1405,8 +648,9 @@ double FixCGMSFluid::shape_pair_energy() const
 
 double FixCGMSFluid::compute_scalar()
 {
+  const double local = pair ? pair->quasi_static_energy() : 0.0;
   double energy = 0.0;
-  MPI_Allreduce(&energy_local, &energy, 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&local, &energy, 1, MPI_DOUBLE, MPI_SUM, world);
   return energy;
 }
 
@@ -1438,16 +682,16 @@ void FixCGMSFluid::refresh_vector()
 
   // the explicit stability limits of the fluid pass (damping, turgor, cell shape),
   // from the neighbour sums of the last geometry pass; reduced as rates 1/dt^2
-  const StepLimits limits(*pair, update->dt);
+  const StepLimits limits = pair->step_limits();
+  const NeighbourSums *sums = neighbour_sums(lmp);
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   for_each_output([&](int i, const double *out) {
     const double *c = cg[i];
     local_max[0] = MAX(local_max[0], fabs(out[OUT_PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = out[OUT_NNEIGH];
     if (nn > 0.0) {
-      const double q = c[RHO] / (c[DRYNESS] * mat.rho0);
-      const double q7 = q * q * q * q * q * q * q;
-      const double limit = limits.smallest(rmass[i], nn, q7, sums[2 * i + 1] - nn * mat.pectin);
+      const double q7 = pow7(c[RHO] / (c[DRYNESS] * mat.rho0));
+      const double limit = limits.smallest(rmass[i], nn, q7, sums[i].distance - nn * mat.pectin);
       local_max[2] = MAX(local_max[2], 1.0 / (limit * limit));
     }
     const double v2 = v[i][0] * v[i][0] + v[i][1] * v[i][1] + v[i][2] * v[i][2];
@@ -1505,42 +749,19 @@ int FixCGMSFluid::output_step() const
 }
 
 /* ----------------------------------------------------------------------
-   the outputs of every local bead i (CGMS::Output columns), handed to use(i,
-   outputs): its state, and what the fluid pass derived from the state and the
-   neighbour sums, recomputed by the same formulas; 0 where no pass has
-   computed them yet (or the pair style that holds the material is gone)
+   the outputs of every local bead, from pair_style cgms, which derives them
+   (PairCGMS::for_each_output); the state alone when that style is gone
 ------------------------------------------------------------------------- */
 
 void FixCGMSFluid::for_each_output(const std::function<void(int, const double *)> &use) const
 {
-  const auto *pair = dynamic_cast<const PairCGMS *>(force->pair);
+  const auto *current = dynamic_cast<const PairCGMS *>(force->pair);
+  if (current) return current->for_each_output(use);
   double **cg = bead_array(lmp);
-  const int nlocal = atom->nlocal;
-  const int derived = passes_done && pair;
-  DrynessLaws at;
   double out[NOUTPUTS];
-  for (int i = 0; i < nlocal; i++) {
-    const double *c = cg[i];
-    for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = c[k];
-    out[OUT_COEF] = out[OUT_NNEIGH] = out[OUT_SIDE] = 0.0;
-    out[OUT_PRESS] = out[OUT_PERIM] = out[OUT_LDEQ] = 0.0;
-    if (derived && c[MF0] > 0.0) {
-      const Material &mat = pair->material();
-      if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, pair->periphery);
-      const double nn = sums[2 * i];
-      const double b = cell_side(nn, sums[2 * i + 1], at.beta, mat.pectin, mat.b_ref);
-      const double perim = 6.0 * b;
-      const double press = at.pressure(at.q7(c[RHO]), mat.K);
-      const double ldeq = c[L0P] * at.ld_factor;
-      out[OUT_NNEIGH] = nn;
-      out[OUT_SIDE] = b;
-      out[OUT_PERIM] = perim;
-      out[OUT_PRESS] = press;
-      out[OUT_LDEQ] = ldeq;
-      out[OUT_COEF] =
-          pair_coefficient(pair->turgor ? mat.k_T : 0.0, pair->perimeter ? mat.k_PA : 0.0, mat.P_f,
-                           press, perim, ldeq);
-    }
+  for (int k = 0; k < NOUTPUTS; k++) out[k] = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = cg[i][k];
     use(i, out);
   }
 }
@@ -1552,16 +773,8 @@ void FixCGMSFluid::fill_outputs()
   });
 }
 
-void FixCGMSFluid::pack_output(int column, double *buf, int nvalues, int groupbit)
-{
-  const int *mask = atom->mask;
-  for_each_output([&](int i, const double *out) {
-    buf[i * nvalues] = (mask[i] & groupbit) ? out[column] : 0.0;
-  });
-}
-
 /* ----------------------------------------------------------------------
-   column >= 0: that column of the state row; -1: the pair coefficients
+   a column of the state row to the ghosts
 ------------------------------------------------------------------------- */
 
 void FixCGMSFluid::forward(int column)
@@ -1572,35 +785,13 @@ void FixCGMSFluid::forward(int column)
 
 int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
-  if (comm_column < 0) {
-    for (int i = 0; i < n; i++) buf[i] = coef[list[i]];
-  } else {
-    double **cg = bead_array(lmp);
-    for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
-  }
+  double **cg = bead_array(lmp);
+  for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
   return n;
 }
 
 void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
 {
-  if (comm_column < 0) {
-    for (int i = 0; i < n; i++) coef[first + i] = buf[i];
-  } else {
-    double **cg = bead_array(lmp);
-    for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
-  }
-}
-
-int FixCGMSFluid::pack_reverse_comm(int n, int first, double *buf)
-{
-  for (int m = 0; m < 2 * n; m++) buf[m] = sums[2 * first + m];
-  return 2 * n;
-}
-
-void FixCGMSFluid::unpack_reverse_comm(int n, int *list, double *buf)
-{
-  for (int i = 0; i < n; i++) {
-    sums[2 * list[i]] += buf[2 * i];
-    sums[2 * list[i] + 1] += buf[2 * i + 1];
-  }
+  double **cg = bead_array(lmp);
+  for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
 }

@@ -9,15 +9,18 @@
 #define LMP_FIX_CGMS_FLUID_H
 
 #include "fix.h"
+#include "pair_cgms.h"
 
 #include <functional>
 
 namespace LAMMPS_NS {
 
-// The fluid phase of the CGMS model: each step the virtual-cell geometry
-// (eqns 10-11), density, turgor pressure (eqn 4), equilibrium perimeter
-// (eqn 9), mass transfer through the virtual membrane (eqn 7) and the
-// per-bead pair coefficient used by pair_style cgms.
+// The fluid phase of the CGMS model around pair_style cgms, which computes it
+// (geometry, pressure, l_d, dm_f/dt, c_i; doc/model.md) in its compute(), as
+// SPH's fix only integrates what its pair computed: the dryness (keyword,
+// variable, schedule), the start-up of new beads, the mass transfer m_f +=
+// dt dm_f/dt, the data-file section, the stability scan of what the pair's
+// pass found, and the outputs.
 class FixCGMSFluid : public Fix {
  public:
   FixCGMSFluid(class LAMMPS *, int, char **);
@@ -27,8 +30,12 @@ class FixCGMSFluid : public Fix {
   void init() override;
   void init_list(int, class NeighList *) override;
   void setup_pre_force(int) override;
+  void setup(int) override;
+  void min_setup(int) override;
   void pre_force(int) override;
   void min_pre_force(int) override;
+  void post_force(int) override;
+  void min_post_force(int) override;
   void post_run() override;
   double compute_scalar() override;
   double compute_vector(int) override;
@@ -45,28 +52,12 @@ class FixCGMSFluid : public Fix {
 
   double memory_usage() override;
 
-  // The contract with pair_style cgms, which reads each step: the pair
-  // coefficient of every bead (local and ghost), and the distance of every
-  // entry of the neighbour list the force loop walks, when this fix's geometry
-  // pass walked that very list in this step (nullptr otherwise; 0 marks an
-  // entry beyond the cutoff). The force loop then needs neither a square root
-  // nor a cutoff test; it calls distances_used() when done.
-  const double *pair_coefficients() const { return coef; }
-  const double *distances_for(const class NeighList *) const;
-  void distances_used() { rdist_valid = 0; }
-
-  // column (CGMS::Output) of every local bead's outputs for compute
-  // property/atom, computed now from its state and the last geometry pass
-  void pack_output(int column, double *buf, int nvalues, int groupbit);
-
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
-  int pack_reverse_comm(int, int, double *) override;
-  void unpack_reverse_comm(int, int *, double *) override;
 
  private:
   class PairCGMS *pair;
-  class NeighList *list;
+  class NeighList *list;    // for the setup checks and the messages (nearest beads)
 
   double dryness_value;    // constant dryness, or
   char *dryness_var;       // name of an equal- or atom-style variable
@@ -83,34 +74,20 @@ class FixCGMSFluid : public Fix {
   int always_balance;       // 1: P = -Pi in runs too (external quasi-static solvers)
   int minimize_balance;     // 1: under minimize, P = -Pi (quasi-static solve); 0: from m_f
   int allow_isolated;       // a bead without neighbours: error (0) or reference cell (1)
-  int dryness_changed;      // a bead with a fluid state got a new dryness since the last pass
   int beads_added;          // set_arrays: a bead was created during the run (fix deposit ...)
   bigint natoms_known;      // atom count when the beads were last known to have a fluid state
 
-  // compact per-bead copies of what the per-pair loops touch, so that a
-  // neighbour costs 8 or 16 bytes instead of a 64-byte row
-  double *coef;     // pair coefficient (local and ghost beads)
-  int nmax_bead;    // length of coef
-  // geometry pass: neighbour count and sum of distances (2 per bead, local and
-  // ghost; per-atom, they travel with the beads: outputs derive from them)
-  double *sums;
   // the per-atom output array f_ID[1-14] (CGMS::Output columns), filled from
-  // the state and the sums on the steps an output may read it (output_step)
+  // the state and the neighbour sums on the steps an output may read it (output_step)
   double **outputs;
-  int nmax_outputs;         // rows of outputs (and beads of sums)
+  int nmax_outputs;         // rows of outputs
   int output_every;         // the keyword output: N, or 0 for auto (init)
   int init_output_every;    // peratom_freq set by init()
-  int passes_done;          // the geometry and fluid passes have run (sums valid)
-  double *rdist;            // distance per neighbour-list entry (see distances_for)
-  bigint rdist_size;
-  int **rdist_list;    // firstneigh of the list rdist follows
-  int rdist_valid;     // set by the geometry pass, cleared by the pair after use
 
-  int comm_column;    // row column sent by forward communication (-1: the pair coefficients)
+  int comm_column;    // row column sent by forward communication
   double *work;       // per-bead values of a keyword (dryness, diameter)
   int nmax_work;
-
-  double energy_local;    // quasi-static potential of the local beads (J)
+  bigint setup_fresh, setup_loaded;    // beads the setup started fresh, took from a data file
 
   bigint vector_step;    // step of the cached global outputs
   double vector_cache[5];
@@ -118,37 +95,33 @@ class FixCGMSFluid : public Fix {
 
   int choice(const std::string &, const char *, const char *, const char *);
   int find_variable(const char *, const char *);
+  void pass_options_to_pair();
   const double *per_bead_values(int, double);
-  double shape_pair_energy() const;
   void apply_dryness();
   void refresh_ghost_dryness();
   bigint load_data_file_state();
   bigint initialise_beads();
-  void warn_if_dried(bigint);
-  // the beads a fluid pass found beyond a limit (-1: none), first of each kind
-  struct Trouble {
-    int fresh = -1, emptied = -1, isolated = -1, nonfinite = -1, unstable = -1, shaky = -1;
-    int stiff = -1;    // the worst turgor case, with:
-    double stiff_ratio = 0.0, stiff_limit = 0.0;
-    int after_change = 0;    // right after a change of dryness
-  };
-
-  void update_fluid_state(int advance);
-  void geometry_pass();
-  void fluid_pass(int advance, Trouble &);
-  void stop_if_unstable(const Trouble &);
-  void damping_limit_error(int);
-  void limit_minimizer_step();
-  void check_dryness_range(double, double);
-  void check_setup_input();
-  void check_setup_geometry();
-  void isolated_error(int);
+  int bead_without_state();
+  void advance_fluid_mass();
   void forward(int column);
   void refresh_vector();
   int output_frequency() const;
   int output_step() const;
   void for_each_output(const std::function<void(int, const double *)> &) const;
   void fill_outputs();
+
+  // the checks and their messages (fix_cgms_fluid_checks.cpp)
+  void check_setup_input();
+  void check_dryness_range(double, double);
+  void check_setup_geometry();
+  void limit_minimizer_step();
+  void warn_if_dried(bigint);
+  void warn_if_folded();
+  void fresh_bead_error(int);
+  void emptied_error(int);
+  void stop_if_unstable(const CGMS::Trouble &);
+  void isolated_error(int);
+  void damping_limit_error(int);
 };
 
 }    // namespace LAMMPS_NS

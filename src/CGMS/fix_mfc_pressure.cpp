@@ -5,6 +5,7 @@
 #include "fix_mfc_pressure.h"
 
 #include "atom.h"
+#include "cgms_laws.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -79,10 +80,10 @@ FixMFCPressure::FixMFCPressure(LAMMPS *lmp, int narg, char **arg) :
   extarray = 0;
   energy_global_flag = 1;
 
-  memory->create(sums, NSUM * ncell, "mfc/pressure:sums");
+  memory->create(sums, ncell, "mfc/pressure:sums");
   memory->create(area, ncell, "mfc/pressure:area");
   memory->create(pressure, ncell, "mfc/pressure:pressure");
-  for (int k = 0; k < NSUM * ncell; k++) sums[k] = 0.0;
+  for (int c = 0; c < ncell; c++) sums[c] = {0.0, 0.0, 0.0};
   for (int c = 0; c < ncell; c++) area[c] = pressure[c] = 0.0;
 }
 
@@ -225,7 +226,7 @@ void FixMFCPressure::post_force(int /*vflag*/)
   const tagint *molecule = atom->molecule;
   const int nlocal = atom->nlocal;
 
-  for (int k = 0; k < NSUM * ncell; k++) sums[k] = 0.0;
+  for (int c = 0; c < ncell; c++) sums[c] = {0.0, 0.0, 0.0};
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     int prev, next;
@@ -234,30 +235,32 @@ void FixMFCPressure::post_force(int /*vflag*/)
     if (c < 0 || c >= ncell)
       error->one(FLERR, "Fix mfc/pressure: wall particle {} has molecule ID {} outside 1..{}",
                  atom->tag[i], molecule[i], ncell);
-    sums[NSUM * c] += 0.5 * (x[i][0] * x[next][1] - x[next][0] * x[i][1]);
-    sums[NSUM * c + 1] += 1.0;
-    if (atom->tag[next] < atom->tag[i]) sums[NSUM * c + 2] += 1.0;
+    sums[c].area += 0.5 * (x[i][0] * x[next][1] - x[next][0] * x[i][1]);
+    sums[c].walls += 1.0;
+    if (atom->tag[next] < atom->tag[i]) sums[c].wrapping += 1.0;
   }
-  MPI_Allreduce(MPI_IN_PLACE, sums, NSUM * ncell, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(MPI_IN_PLACE, reinterpret_cast<double *>(sums), NSUM * ncell, MPI_DOUBLE, MPI_SUM,
+                world);
 
   energy = 0.0;
   for (int c = 0; c < ncell; c++) {
-    area[c] = sums[NSUM * c];
+    area[c] = sums[c].area;
     pressure[c] = 0.0;
-    if (sums[NSUM * c + 1] == 0.0) continue;    // no such cell in the group
-    if (sums[NSUM * c + 2] != 1.0)
+    if (sums[c].walls == 0.0) continue;    // no such cell in the group
+    if (sums[c].wrapping != 1.0)
       error->all(FLERR,
                  "Fix mfc/pressure: molecule ID {} holds {:.0f} rings of wall particles; each "
                  "cell needs its own molecule ID (one closed ring per ID)",
-                 c + 1, sums[NSUM * c + 2]);
+                 c + 1, sums[c].wrapping);
     if (!(area[c] > 0.0))
       error->all(FLERR,
                  "Fix mfc/pressure: cell {} encloses area {} <= 0 on step {}: its wall "
                  "is numbered clockwise or has turned inside out",
                  c + 1, area[c], update->ntimestep);
+    // the Tait law of the coarse model (eqn 4 of doc/model.md), density ratio A_f / A
     const double q = fluid_area / area[c];
     const double q6 = q * q * q * q * q * q;
-    pressure[c] = turgor + modulus * (q6 * q - 1.0);
+    pressure[c] = CGMS::tait_pressure(CGMS::pow7(q), turgor, modulus);
     // -H int_{A_f}^{A} P dA, zero at A = A_f
     energy += height *
         ((modulus - turgor) * (area[c] - fluid_area) + modulus * fluid_area / 6.0 * (q6 - 1.0));
@@ -290,7 +293,7 @@ double FixMFCPressure::compute_vector(int n)
 {
   double count = 0.0, total = 0.0, mean = 0.0;
   for (int c = 0; c < ncell; c++)
-    if (sums[NSUM * c + 1] > 0.0) {
+    if (sums[c].walls > 0.0) {
       count += 1.0;
       total += area[c];
       mean += pressure[c];

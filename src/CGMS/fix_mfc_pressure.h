@@ -37,9 +37,14 @@ class FixMFCPressure : public Fix {
   double fluid_area;    // A_f: fluid mass / (rho0 H), the area at rest density (m^2)
 
   int ncell;    // largest molecule ID in the group at creation
-  // per cell: enclosed area, wall particle count, edges to a lower ID (local, then global)
-  static constexpr int NSUM = 3;
-  double *sums;
+  // per cell, summed over ranks as NSUM doubles
+  struct CellSums {
+    double area;        // enclosed area (shoelace)
+    double walls;       // wall particle count
+    double wrapping;    // ring edges to a lower ID: 1 for one closed ring
+  };
+  static constexpr int NSUM = sizeof(CellSums) / sizeof(double);
+  CellSums *sums;
   double *area;        // per cell: enclosed area (m^2)
   double *pressure;    // per cell: pressure (Pa)
   double energy;       // sum over cells of -H int_{A_f}^{A} P dA (J)

@@ -11,7 +11,6 @@
 #include "cgms_store.h"
 #include "comm.h"
 #include "error.h"
-#include "fix_cgms_fluid.h"
 #include "force.h"
 #include "input.h"
 #include "memory.h"
@@ -38,7 +37,8 @@ enum { LJ_REPULSION = 1, LJ_ATTRACTION = 2 };
 PairCGMS::PairCGMS(LAMMPS *lmp) :
     Pair(lmp), turgor(1), perimeter(1), periphery(1), damping(1), repulsion(1), attraction(1),
     cut_user(0.0), cut_factor(CUTOFF_FACTOR), cut_scaled(1), cut_global(0.0), uniform_dryness(-1.0),
-    fluid(nullptr)
+    dryness_changed(0), passes_run(0), energy_local(0.0), coef(nullptr), nmax_coef(0),
+    rdist(nullptr), rdist_size(0)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -47,13 +47,25 @@ PairCGMS::PairCGMS(LAMMPS *lmp) :
   centroidstressflag = CENTROID_NOTAVAIL;
   shape_k = nullptr;
   nmax_shape = 0;
+  comm_forward = 1;              // the pair coefficients
+  comm_reverse = CGMS::NSUMS;    // the neighbour sums
+  // compute property/atom asks this style for the derived outputs
+  CGMS::output_packer(lmp) = [this](int column, double *buf, int nvalues, int groupbit) {
+    const int *mask = atom->mask;
+    for_each_output([&](int i, const double *out) {
+      buf[i * nvalues] = (mask[i] & groupbit) ? out[column] : 0.0;
+    });
+  };
 }
 
 /* ---------------------------------------------------------------------- */
 
 PairCGMS::~PairCGMS()
 {
+  CGMS::output_packer(lmp) = nullptr;
   memory->destroy(shape_k);
+  memory->destroy(coef);
+  memory->destroy(rdist);
   if (allocated) {
     memory->destroy(setflag);
     memory->destroy(cutsq);
@@ -150,12 +162,10 @@ void PairCGMS::init_style()
                "Pair style cgms does not support run_style {}: CGMS forces have one time "
                "scale; use run_style verlet",
                update->integrate_style);
-  const auto fixes = modify->get_fix_by_style("^cgms/fluid$");
-  if (fixes.empty())
+  if (modify->get_fix_by_style("^cgms/fluid$").empty())
     error->all(FLERR,
                "Pair style cgms requires fix cgms/fluid: it computes the virtual-cell geometry, "
                "pressure and dryness the forces use");
-  fluid = dynamic_cast<FixCGMSFluid *>(fixes.front());
   if (damping && !comm->ghost_velocity)
     error->all(FLERR,
                "Pair style cgms with damping requires 'comm_modify vel yes' (ghost velocities)");
@@ -214,17 +224,38 @@ double PairCGMS::init_one(int, int)
 void PairCGMS::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
+  energy_local = 0.0;
+  found = CGMS::Trouble();
+  // with turgor, perimeter and mass transfer all off nothing reads the fluid state
+  const int passes = passes_needed();
+  if (passes) {
+    geometry_pass();
+    fluid_pass();
+    passes_run = 1;
+    if (pair_coefficient_needed()) comm->forward_comm(this);
+  }
+  force_loop(passes);
+  // the quasi-static potential (fluid_pass), added after the pairs' LJ energy
+  if (eflag_global) eng_vdwl += energy_local;
+}
 
+/* ----------------------------------------------------------------------
+   every combination of effects gets its own loop, so a switched-off effect
+   costs neither flops nor branches in the inner loop; cached: the geometry
+   pass has stored the distance of every list entry
+------------------------------------------------------------------------- */
+
+void PairCGMS::force_loop(int cached)
+{
   const int lj = (repulsion ? LJ_REPULSION : 0) | (attraction ? LJ_ATTRACTION : 0);
   // 2: the cell-shape stiffness differs between beads, k_S(s_i) with s_i varying
   const int pc = !pair_coefficient_needed()                                ? 0
       : mat.k_S > 0.0 && mat.k_S_exponent != 0.0 && uniform_dryness <= 0.0 ? 2
                                                                            : 1;
 
-  // every combination of effects gets its own loop, so a switched-off effect
-  // costs neither flops nor branches in the inner loop
-#define CGMS_DISPATCH(EV, PC, LJ, DAMP) \
-  if (evflag == EV && pc == PC && lj == LJ && damping == DAMP) return eval<EV, PC, LJ, DAMP>();
+#define CGMS_DISPATCH(EV, PC, LJ, DAMP)                        \
+  if (evflag == EV && pc == PC && lj == LJ && damping == DAMP) \
+    return eval<EV, PC, LJ, DAMP>(cached);
 #define CGMS_DISPATCH_LJ(EV, PC, DAMP) \
   CGMS_DISPATCH(EV, PC, 0, DAMP)       \
   CGMS_DISPATCH(EV, PC, 1, DAMP)       \
@@ -246,7 +277,7 @@ void PairCGMS::compute(int eflag, int vflag)
 
 /* ----------------------------------------------------------------------
    force on bead i from neighbour k, n = (x_i - x_k)/|x_i - x_k|:
-     turgor + perimeter: (c_i + c_k) n, c from fix cgms/fluid
+     turgor + perimeter: (c_i + c_k) n, c from the fluid pass
      LJ:                 f0 [(r/x)^8 - (r/x)^4] / x^2 (x_i - x_k)
      damping:           -k_d (v_i - v_k)
      cell shape:        -(k_S,i (x - xbar_i) + k_S,k (x - xbar_k)) n, k_S,i xbar_i
@@ -256,16 +287,14 @@ void PairCGMS::compute(int eflag, int vflag)
    continuous at x = r
 ------------------------------------------------------------------------- */
 
-template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
+template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval(int cached)
 {
   double **x = atom->x;
   double **v = atom->v;
   double **f = atom->f;
   double **cg = CGMS::bead_array(lmp);
-  const double *coef = fluid->pair_coefficients();
-  // x per list entry from fix cgms/fluid, when it walked this very list
-  const double *rdist = fluid->distances_for(list);
-  const int cached = rdist != nullptr;
+  const double *coef = this->coef;
+  const double *rdist = this->rdist;
   bigint k = 0;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
@@ -399,7 +428,6 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval()
     f[i][1] += fytmp;
   }
 
-  fluid->distances_used();    // the next force call needs a fresh geometry pass
   if (vflag_fdotr) virial_fdotr_compute();
 }
 
@@ -507,7 +535,7 @@ double PairCGMS::memory_usage()
 {
   const double n = atom->ntypes + 1;
   return Pair::memory_usage() + n * n * (sizeof(int) + sizeof(double)) +
-      (double) nmax_shape * sizeof(double);
+      ((double) nmax_shape + nmax_coef + rdist_size) * sizeof(double);
 }
 
 /* ---------------------------------------------------------------------- */

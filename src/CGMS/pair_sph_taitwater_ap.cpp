@@ -11,6 +11,7 @@
 #include "pair_sph_taitwater_ap.h"
 
 #include "atom.h"
+#include "cgms_laws.h"
 #include "comm.h"
 #include "domain.h"
 #include "error.h"
@@ -80,14 +81,14 @@ double PairSPHTaitwaterAP::shape(double q) const
 }
 
 /* ----------------------------------------------------------------------
-   the Tait equation of state, P = B ((rho / rho0)^7 - 1), of atom i
+   the Tait equation of state, P = B ((rho / rho0)^7 - 1), of atom i (the
+   coarse model's law, eqn 4 of doc/model.md, with P_ref = 0)
 ------------------------------------------------------------------------- */
 
 double PairSPHTaitwaterAP::tait(int i) const
 {
-  const double tmp = atom->rho[i] / rho0[atom->type[i]];
-  const double tmp3 = tmp * tmp * tmp;
-  return B[atom->type[i]] * (tmp3 * tmp3 * tmp - 1.0);
+  const int itype = atom->type[i];
+  return CGMS::tait_pressure(CGMS::pow7(atom->rho[i] / rho0[itype]), 0.0, B[itype]);
 }
 
 /* ----------------------------------------------------------------------
@@ -175,7 +176,7 @@ void PairSPHTaitwaterAP::wall_densities()
                  "Pair sph/taitwater/ap: wall atom {} takes the fluid's pressure {} beyond "
                  "the tension -B = {} its type's equation of state holds",
                  atom->tag[i], pw, -B[itype]);
-    rho[i] = rho0[itype] * pow(ratio, 1.0 / 7.0);
+    rho[i] = CGMS::tait_density(pw, 0.0, B[itype], 1.0 / rho0[itype]);
   }
   comm->forward_comm(this);
   tait_pressures(true);

@@ -80,6 +80,32 @@ def test_energy_matches_model(tmp_path, k_s):
     assert pe == pytest.approx(expected + lj, rel=1e-9)
 
 
+@pytest.mark.parametrize("energy", ["yes", "no"])
+def test_energy_is_counted_once_with_fix_modify(tmp_path, energy):
+    """pair_style cgms counts the quasi-static energy in evdwl; scripts that say
+    'fix_modify fl energy yes|no' (the fix added it to pe once) keep running, with pe the
+    same as without the line (energy yes: not twice, with a warning)."""
+    make_tissue(tmp_path, jitter=0.1, seed=7, s=(0.2, 1.0))
+    pes = []
+    for extra in ("", f"fix_modify fl energy {energy}"):
+        lmp = new_lammps()
+        lmp.command(f"log {tmp_path / f'log{len(pes)}.lammps'}")
+        try:
+            with working_directory(tmp_path):
+                lmp.commands_string(header() + physics("damping no", "balance yes") + extra)
+            lmp.command("thermo_style custom step pe evdwl f_fl")
+            lmp.command("run 0")
+            pes.append((lmp.get_thermo("pe"), lmp.get_thermo("evdwl"), lmp.extract_fix("fl", 0, 0)))
+        finally:
+            lmp.close()
+    (pe, evdwl, qs), (pe_modified, _, qs_modified) = pes
+    assert qs != 0.0 and qs_modified == qs
+    assert pe == evdwl    # the quasi-static energy is part of the pair's
+    assert pe_modified == pe
+    warned = "fix_modify fl energy yes is not needed" in (tmp_path / "log1.lammps").read_text()
+    assert warned == (energy == "yes")
+
+
 def test_no_potential_in_dynamics(tmp_path):
     """While pressures follow the fluid mass the turgor and perimeter forces have no
     potential: the fix reports 0 and pe is the LJ energy alone (k_S = 0)."""
