@@ -267,7 +267,7 @@ def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
     def snapshot(level, row, state):
         maps.append((level, row, state))
         if mech is not None:
-            mech.dump(out / f"tissue.X{level:g}.dump")
+            mech.dump(out / f"tissue.X{level:g}.dump", state["surface"], state["core"])
         print(f"  t = {row['t_h']:6.3f} h  X/X0 = {row['X/X0']:.3f}  A/A0 = {row['A/A0']:.3f}  "
               f"surface {row['surface_X/X0']:.3f} core {row['core_X/X0']:.3f}  "
               f"T_product {row['T_product']:.1f} C", flush=True)
