@@ -49,6 +49,11 @@ PARAM_RULES = {
 }
 
 
+#: a warm Newton solve (Mechanics) takes at most this many iterations per Jacobian it
+#: may build (``newton_iterations``): the steps of a kept matrix cost one force
+#: evaluation each
+REUSED_PER_JACOBIAN = 8
+
 #: the run ends when the tissue's X/X0 is this close to the equilibrium moisture of the
 #: air (:func:`equilibrium_ratio`), which it nears ever more slowly and never passes: a
 #: --stop below it is never reached (1e-3: the precision of the X/X0 the CLI prints)
@@ -124,6 +129,8 @@ class Mechanics:
         self.mat = material.with_overrides(material.read(material_file), overrides)
         self.solves = 0
         self.seconds = 0.0
+        self.factor = {}        # Newton's kept matrix (cgms.solve.newton)
+        self.info = {}          # the report of the last Newton solve
         self.dryness = 1.0      # the lowest bead dryness of the last solve
         fire = method == "fire"
         # the pressures held at balance in runs too (FIRE holds them so in its solves):
@@ -199,13 +206,18 @@ class Mechanics:
                 # reference of A/A0, and a reference left short of its minimum lets the
                 # later, warm-started solves keep swelling (A/A0 of 1.008 at X/X0 = 0.95
                 # measured with 3 iterations)
-                run.solve_newton(self.lmp, spacing=material.steady_spacing(self.mat, 1.0),
-                                 max_iterations=self.first_iterations)
+                self.info = run.solve_newton(
+                    self.lmp, spacing=material.steady_spacing(self.mat, 1.0),
+                    max_iterations=self.first_iterations, factor=self.factor)
             else:
+                # the matrix of the last Jacobian is kept across the warm solves: the
+                # shape changes little between them, and a step of the kept one costs
+                # one force evaluation instead of a Jacobian's hundred
                 forces = solve.LammpsForces(self.lmp)
-                xy, _ = solve.newton(forces, forces.positions(),
-                                     self.lmp.extract_pair("cut_global"), ftol=1e-13,
-                                     max_iterations=self.newton_iterations)
+                xy, self.info = solve.newton(
+                    forces, forces.positions(), self.lmp.extract_pair("cut_global"),
+                    ftol=1e-13, max_iterations=REUSED_PER_JACOBIAN * self.newton_iterations,
+                    factor=self.factor, max_jacobians=self.newton_iterations)
                 forces(xy)                          # leave LAMMPS at the solution
 
     def dump(self, path, surface=None, core=None):
