@@ -109,7 +109,7 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
         dt = min(lev["dt_max"], dt * min(2.0, lev["dx_max"] / max(change, 1e-12)))
         s = np.clip(transport.bead_moisture(grid, x)[0] / x0, lev["s_min"], 1.0)
         if mechanics is not None and drying.resolve_due(s, s_solved, lev["resolve"],
-                                                        lev.get("trigger", "max")):
+                                                        lev["trigger"]):
             _, surf, core = transport.bead_moisture(grid, x)
             xy = mechanics.solve(s, surf / x0, core / x0)
             s_solved = s

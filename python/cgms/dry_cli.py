@@ -89,8 +89,8 @@ def add_arguments(p):
     p.add_argument("--dx-max", type=float, default=drying.LEVERS["dx_max"],
                    help="largest change of a node's X/X0 per moisture step (default %(default)s)")
     p.add_argument("--resolve", type=float, default=drying.LEVERS["resolve"],
-                   help="re-solve the shape when a bead's dryness moved this much "
-                        "(default %(default)s)")
+                   help="re-solve the shape when the beads' dryness moved this much on "
+                        "average (default %(default)s)")
     p.add_argument("--solver", choices=("auto", "fire", "newton", "newton+fire"),
                    default="auto",
                    help="shape solver, warm started: FIRE, Newton, or Newton for the fresh "
