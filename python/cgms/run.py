@@ -233,7 +233,8 @@ def folded(lmp):
             "perimeter law (k_PA) may prevent it")
 
 
-def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, log=None):
+def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, log=None,
+                 factor=None):
     """Newton's method (:mod:`cgms.solve`) on a LAMMPS instance set up by
     :func:`tissue_script` with ``method="newton"``; writes the final state to ``dump``.
     ``spacing``: the steady bead spacing (:func:`cgms.model.steady_spacing`); a tissue
@@ -243,7 +244,7 @@ def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, lo
     would squeeze the periphery, whose cells end larger than the inner ones (beta < 1),
     and buckle it (measured: other states, and slower, on the microscale tissues).
     Returns the solver's report (iterations, force evaluations, seconds, largest force,
-    ``converged``)."""
+    ``converged``). ``factor``: :func:`cgms.solve.newton`'s, to keep its last matrix."""
     from . import morphology, solve
 
     forces = solve.LammpsForces(lmp)
@@ -254,7 +255,7 @@ def solve_newton(lmp, dump=None, ftol=1e-13, max_iterations=60, spacing=None, lo
         centre = xy.mean(axis=0)
         xy = centre + (xy - centre) * (spacing / now)
     xy, info = solve.newton(forces, xy, cutoff, ftol=ftol, max_iterations=max_iterations,
-                            log=log)
+                            log=log, factor=factor)
     forces(xy)  # leave LAMMPS at the solution
     if dump:
         compute, columns, names = dump_columns()

@@ -138,8 +138,15 @@ def without_rigid_motion(xy, delta):
     return d.ravel()
 
 
+#: a step of a kept factorisation (:func:`newton`'s ``factor``) that leaves the largest
+#: force above this fraction of the one before says the matrix is stale: the next
+#: iteration builds the Jacobian anew (a fresh one contracts quadratically; a stale one
+#: linearly, at a rate that grows with the change since it was built)
+STALE = 0.5
+
+
 def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_move=None,
-           stall=12, log=None):
+           stall=12, log=None, factor=None, max_jacobians=None):
     """Minimise the quasi-static potential from positions ``xy``: returns (xy, info).
 
     ``cutoff``: the largest pair cutoff (m). ``ftol``: stop when the largest force
@@ -151,16 +158,28 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
     ``step``: finite-difference displacement (m; default 1e-7 of the bead spacing).
     ``max_move``: largest displacement of a bead relative to a neighbour in one iteration
     (m; default 5 % of the bead spacing), so a step cannot carry a bead across a
-    neighbour's cutoff."""
+    neighbour's cutoff.
+    ``factor``: a dict that keeps the factorised matrix of the last Jacobian (and the
+    colouring) across calls: an iteration first tries the kept one (one force evaluation
+    and a back substitution instead of a Jacobian of about 100 evaluations and a
+    factorisation), and builds a new one when that step is refused or contracts the
+    largest force by less than :data:`STALE` (warm-started solves of a slowly changing
+    problem, cgms.drying). ``max_jacobians``: stop after building this many."""
     # a bead's force depends on beads two neighbour hops away: within two cutoffs
     reach = 2.04 * cutoff
     separation = 2 * reach
     spacing = morphology.spacing(xy)
     step = step or 1e-7 * spacing
     max_move = max_move or 0.05 * spacing
-    colours = colour(xy, separation)
+    factor = {} if factor is None else factor
+    if factor.get("n") != len(xy):
+        factor.clear()
+        factor["n"] = len(xy)
+    if factor.get("colours") is None:
+        factor["colours"] = colour(xy, separation)
+    colours = factor["colours"]
     info = dict(iterations=0, evaluations=0, colours=int(colours.max() + 1), history=[],
-                stalled=False)
+                stalled=False, jacobians=0, reused=0)
     start = time.perf_counter()
     energy, f = forces(xy)
     mu = 0.0
@@ -178,15 +197,28 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
                 past[0][1] - energy < 1e-4 * abs(energy):
             info["stalled"] = True
             break
-        # a shrinking tissue brings beads of one colour closer together: colour again
-        # when it has (the greedy colouring costs as much as 50 force evaluations)
-        if not colouring_holds(xy, colours, separation):
-            colours = colour(xy, separation)
         reached = cKDTree(xy).query_pairs(reach, output_type="ndarray")
-        jac = jacobian(forces, xy, f, colours, reached, step)
         # neighbours (within one cutoff), for the limit on relative moves
         gaps = np.linalg.norm(xy[reached[:, 0]] - xy[reached[:, 1]], axis=1)
         pairs = reached[gaps < 0.5 * reach]
+        if factor.get("lu") is not None:
+            kept = _kept_step(forces, xy, energy, f, factor["lu"], pairs, max_move)
+            if kept is not None:
+                xy, energy, f = kept
+                info["reused"] += 1
+                info["iterations"] = it + 1
+                if np.abs(f).max() > STALE * fmax:
+                    factor["lu"] = None
+                continue
+            factor["lu"] = None
+        if max_jacobians is not None and info["jacobians"] >= max_jacobians:
+            break
+        # a shrinking tissue brings beads of one colour closer together: colour again
+        # when it has (the greedy colouring costs as much as 50 force evaluations)
+        if not colouring_holds(xy, colours, separation):
+            colours = factor["colours"] = colour(xy, separation)
+        jac = jacobian(forces, xy, f, colours, reached, step)
+        info["jacobians"] += 1
         hess = -0.5 * (jac + jac.T)
         diag = np.abs(hess.diagonal())
         scale = diag.mean()
@@ -201,8 +233,9 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
             try:
                 # symmetric ordering and diagonal pivots: partial pivoting would wreck
                 # the ordering (minutes instead of seconds for 20 000 beads)
-                delta = spla.splu(shifted, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
-                                  options=dict(SymmetricMode=True)).solve(rhs)
+                lu = spla.splu(shifted, permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                               options=dict(SymmetricMode=True))
+                delta = lu.solve(rhs)
             except RuntimeError:  # singular
                 delta = None
             if delta is not None:
@@ -221,6 +254,7 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
                 if step_accepted(energy, f, e1, f1, delta, rounding=1e-11):
                     xy, energy, f = trial, e1, f1
                     mu = mu / 10 if mu > 1e-8 else 0.0
+                    factor["lu"] = lu
                     break
             # not a descent direction (the matrix is indefinite), or no decrease: damp
             mu = max(10 * mu, 1e-5)
@@ -228,6 +262,25 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
                 raise RuntimeError("Newton step found no decrease of the potential")
         info["iterations"] = it + 1
     fmax = float(np.abs(f).max())
+    factor["xy"] = xy
     info.update(evaluations=forces.evaluations, seconds=time.perf_counter() - start,
                 fmax=fmax, energy=energy, converged=fmax < ftol)
     return xy, info
+
+
+def _kept_step(forces, xy, energy, f, lu, pairs, max_move):
+    """The step of a kept factorisation from ``xy`` (limited as :func:`newton` limits
+    its steps), as (xy, energy, forces) if it is taken, else None."""
+    rhs = f.ravel()
+    delta = without_rigid_motion(xy, lu.solve(rhs))
+    if not (np.all(np.isfinite(delta)) and rhs @ delta > 0):
+        return None
+    d = delta.reshape(-1, 2)
+    move = np.abs(d[pairs[:, 0]] - d[pairs[:, 1]]).max()
+    if move > max_move:
+        delta *= max_move / move
+    trial = xy + delta.reshape(-1, 2)
+    e1, f1 = forces(trial)
+    if not step_accepted(energy, f, e1, f1, delta, rounding=1e-11):
+        return None
+    return trial, e1, f1

@@ -40,7 +40,7 @@ constexpr double M_WATER = 0.018015;     // kg/mol
 constexpr double M_AIR = 0.028965;       // kg/mol
 constexpr double KELVIN = 273.15;
 constexpr double P_ATM = 101325.0;    // Pa
-constexpr int NVECTOR = 15;
+constexpr int NVECTOR = 16;
 enum { MODE_STATE, MODE_DIRECTION, MODE_SHIFT };
 
 // the fix property/atom that holds every bead's transport state, and its array
@@ -170,6 +170,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   dx_max = dt_max = 0.0;
   cg_tol = 1e-14;
   cg_max = 2000;
+  until = -1.0;
   nevery = 1;
 
   params_file = arg[3];
@@ -304,6 +305,12 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
         error->all(FLERR,
                    "Fix cgms/transport surface must be 'vapour' or 'linear h_x X_eq', got '{}'",
                    arg[iarg + 1]);
+    } else if (key == "until") {
+      need(1);
+      until = number(iarg + 1);
+      if (!(until > 0.0))
+        error->all(FLERR, "Fix cgms/transport until (s of drying) must be > 0, got {}", until);
+      iarg += 2;
     } else if (key == "tolerance") {
       need(1);
       cg_tol = number(iarg + 1);
@@ -314,7 +321,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
       error->all(FLERR,
                  "Unknown fix cgms/transport keyword '{}' (known: every dt adapt layers faces "
                  "inplane outline heat shrink temperature humidity velocity plate thickness "
-                 "cutoff smin surface tolerance)",
+                 "cutoff smin surface until tolerance)",
                  key);
   }
   // the linear law has no vapour pressure, so no heat balance: D at the air temperature
@@ -329,6 +336,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   t_product = t_air;
   nmoves = 0;
   cg_iterations = 0;
+  halvings = 0;
   comm_mode = MODE_STATE;
   // the outputs before the first setup: nothing has dried yet
   for (double &v : vec) v = 0.0;
@@ -896,6 +904,7 @@ void FixCGMSTransport::refresh_vector()
   vec[12] = cg_iterations;
   vec[13] = (double) nmoves;
   vec[14] = out_gone;
+  vec[15] = halvings;
 }
 
 double FixCGMSTransport::compute_vector(int n)
@@ -1147,8 +1156,10 @@ double FixCGMSTransport::product_temperature()
 void FixCGMSTransport::move()
 {
   account_removed();
+  // the drying ends at 'until' (1e-9 s: below any step the adaptive rule makes)
+  if (until > 0.0 && time >= until - 1e-9) return;
   const int nlocal = atom->nlocal;
-  double dt = dt_move;
+  double dt = until > 0.0 ? MIN(dt_move, until - time) : dt_move;
   geometry();
   t_product = product_temperature();
   const int nall = nlocal + atom->nghost;
@@ -1156,10 +1167,10 @@ void FixCGMSTransport::move()
   check_diffusivity();
 
   const double before = water;    // the totals of the last refresh_vector
-  for (int halving = 0;; halving++) {
+  for (halvings = 0;; halvings++) {
     assemble(dt);
     cg_iterations = solve();
-    if (!drained(dt, halving)) break;
+    if (!drained(dt, halvings)) break;
     dt *= 0.5;
   }
 

@@ -74,6 +74,7 @@ class FixCGMSTransport : public Fix {
   double dx_max, dt_max;    // adaptive step (dx_max <= 0: fixed)
   double cg_tol;
   int cg_max;
+  double until;    // drying time (s) the steps stop at (<= 0: none)
 
   // state of the run (global; a copy rides in every bead's row of the state store)
   int initialised;    // 1: this fix holds the tissue's state (made or taken over)
@@ -84,7 +85,8 @@ class FixCGMSTransport : public Fix {
   bigint beads;              // beads then
   bigint nmoves;
   int cg_iterations;
-  double vec[15];    // the global outputs, refreshed after every moisture step
+  int halvings;      // how often the last step was halved to keep every node >= 0
+  double vec[16];    // the global outputs, refreshed after every moisture step
 
   // per bead, in the per-atom array of the fix property/atom STATE_FIX (it
   // travels with the bead, into restart and data files and past this fix's

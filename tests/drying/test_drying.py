@@ -10,6 +10,7 @@ import sys
 import numpy as np
 import pytest
 
+import drying_oracle
 from cgmstest import APPLE, MAT, ROOT, lammps_env
 from cgms import drying, morphology, study, tissue
 
@@ -39,17 +40,71 @@ def test_water_balance_with_moving_mechanics(tmp_path):
     assert rows[-1]["solves"] >= 5
     assert max(abs(r["balance"]) for r in rows) < 1e-10
     # the geometry of the last solve still links each bead to its nearest shell only
-    assert np.bincount(res["grid"]["geometry"]["pairs"].ravel()).max() == 6
+    assert np.bincount(drying.bead_geometry(res["xy"])["pairs"].ravel()).max() == 6
+
+
+def curves(result, keys=("t_h", "X/X0", "T_product", "surface_X/X0", "core_X/X0", "A/A0",
+                          "EL/EL0", "balance", "solves")):
+    return {k: np.array([r[k] for r in result["rows"]]) for k in keys}
+
+
+@pytest.mark.parametrize("moving", [False, True], ids=["frozen", "FIRE"])
+def test_engine_matches_oracle(tmp_path, moving):
+    """cgms dry's engine, fix cgms/transport driven by drying.dry, gives the drying curve
+    of the Python oracle (tests/drying_oracle.py: cgms.transport stepped the same way),
+    row by row: the heat balance on, faces and outline in air, to X/X0 = 0.4 or the end
+    of --hours (0.3 h, a step cut short by it).
+
+    Tolerances, from what each side guarantees. Both solve the same equations, by CG to
+    a relative residual of 1e-14; the one difference is the product temperature: the
+    oracle's Brent stops within 1e-6 K, the fix's bisection within 1e-10 K. 1e-6 K moves
+    D_eff by E/(R T^2) = 7.5e-8 (58 kJ/mol at the wet bulb, 305 K) and the vapour density
+    at the surface by 5.5e-8, so every flux by at most 7.5e-8 relative; the loss, X/X0's
+    complement, by 7.5e-8 of it, and each step's length (dx_max over the largest change)
+    by 1.5e-7. The row k of both is then at times 1.5e-7 relative apart, where X/X0
+    moves at most rate x t: 7 /h x 0.3 h x 1.5e-7 = 3e-7. Asserted: X/X0, surface and
+    core 1e-6, time 1e-6 relative, T_product 2e-6 K (Brent's 1e-6 K and the step).
+    Moving (FIRE to 1e-13 N, each side its own LAMMPS): the shapes are two solves stopped
+    anywhere in the ball test_drying_under_mpi derives for this tissue at that force,
+    A 1.2e-7, P 8.6e-7, EL 1.1e-5 apart, and the water leaves through faces and edges
+    off by that much: A/A0 1e-6, EL/EL0 3e-5, and X/X0 1e-6 more. The same solves at the
+    same rows, unless a change falls within these of resolve. Measured: 4e-10 (X/X0),
+    2.3e-7 K, 4e-10 (A/A0), 8e-8 (EL/EL0)."""
+    xy, data = small_tissue(tmp_path)
+    runs = {}
+    for name, fn in (("engine", drying.dry), ("oracle", drying_oracle.dry)):
+        mech = drying.Mechanics(data, APPLE, ftol=1e-13) if moving else None
+        try:
+            runs[name] = curves(fn(xy, PARAMS, dict(outline=True, heat=True),
+                                   dict(layers=4, resolve=0.05), hours=0.3 if not moving else 2,
+                                   stop=0.4 if moving else 0.0, mechanics=mech))
+        finally:
+            if mech:
+                mech.close()
+    a, b = runs["engine"], runs["oracle"]
+    assert len(a["t_h"]) == len(b["t_h"]) > 20
+    if moving:
+        assert a["X/X0"][-1] <= 0.4 and a["solves"][-1] >= 5
+    else:
+        assert a["t_h"][-1] == pytest.approx(0.3, abs=1e-12)     # cut short by --hours
+    assert np.all(a["solves"] == b["solves"])
+    assert np.abs(a["t_h"] - b["t_h"]).max() <= 1e-6 * a["t_h"][-1]
+    for key in ("X/X0", "surface_X/X0", "core_X/X0"):
+        assert np.abs(a[key] - b[key]).max() < 1e-6, key
+    assert np.abs(a["T_product"] - b["T_product"]).max() < 2e-6
+    assert np.abs(a["A/A0"] - b["A/A0"]).max() < 1e-6
+    assert np.abs(a["EL/EL0"] - b["EL/EL0"]).max() < 3e-5
+    assert np.abs(a["balance"]).max() < 1e-10
 
 
 def test_transport_neighbours_are_the_nearest_shell():
     """The transport links a bead to the beads within the pair style's cutoff factor
     times the median spacing: on a hexagonal lattice its six nearest, never the second
-    shell at sqrt(3) spacings (shape frozen, no LAMMPS)."""
+    shell at sqrt(3) spacings (the geometry of the oracle, and by
+    test_engine_matches_oracle of fix cgms/transport, which it gives its cutoff)."""
     a = MAT["x_ref"]
     xy = tissue.hex_rectangle(6, 5, a)
-    res = drying.dry(xy, PARAMS, levers=dict(layers=2), hours=0.01)
-    geo = res["grid"]["geometry"]
+    geo = drying.bead_geometry(xy)
     count = np.bincount(geo["pairs"].ravel(), minlength=len(xy))
     inner = np.hypot(*(xy - xy.mean(axis=0)).T) < a     # the beads around the centre
     assert count.max() == 6 and np.all(count[inner] == 6)
@@ -59,11 +114,14 @@ def test_transport_neighbours_are_the_nearest_shell():
 def test_uniform_field_equals_moisture_domain(tmp_path):
     """Faces only (impermeable outline) and the transport geometry of the fresh tissue:
     every column dries alike, the in-plane field stays uniform, and the shape is the
-    moisture-domain steady state at that dryness (cgms study, solved from the lattice)."""
+    moisture-domain steady state at that dryness (cgms study, solved from the lattice).
+    The transport on the fresh geometry is a switch of the oracle only: with the geometry
+    following the shape, as in cgms dry, the outline beads dry slower (their columns
+    shrink less; doc/drying.md)."""
     xy, data = small_tissue(tmp_path)
     mech = drying.Mechanics(data, APPLE, ftol=1e-13)
     try:
-        res = drying.dry(xy, PARAMS, dict(outline=False), dict(layers=4, resolve=0.1),
+        res = drying_oracle.dry(xy, PARAMS, dict(outline=False), dict(layers=4, resolve=0.1),
                          hours=3, stop=0.55, mechanics=mech, transport_geometry=False)
         s = res["x"].reshape(-1, 4).mean(axis=1) / PARAMS["X0"]
         assert np.ptp(s) < 1e-12 * s.mean()

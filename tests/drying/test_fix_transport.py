@@ -336,6 +336,7 @@ def test_restart_continues_the_run(tmp_path):
     ("colour blue", None, "Unknown fix cgms/transport keyword 'colour'"),
     ("surface wet", None, "surface must be 'vapour' or 'linear h_x X_eq'"),
     ("cutoff 1e-5", None, "bead 1 has no neighbour within the transport cutoff"),
+    ("until 0", None, "until (s of drying) must be > 0"),
 ])
 def test_bad_input_names_the_cause(tmp_path, fix_args, params, message):
     good = PARAMS_FILE.read_text()
@@ -385,6 +386,38 @@ def test_coupled_to_fix_cgms_fluid(tmp_path):
     dump = read_dump(tmp_path / "out.dump")
     assert dump["f_tr[1]"].min() < 0.9
     assert np.array_equal(dump["f_fluid[2]"], dump["f_tr[1]"])    # the dryness handed over
+
+
+def test_until_ends_the_drying_there(tmp_path):
+    """until T: the step that would pass T is cut short to end there (the end of cgms
+    dry's --hours), and later MD steps make none; the cut step is the oracle's of the
+    same length (10 fixed steps of 2 s and one of 1 s to T = 21 s)."""
+    xy = jittered()
+    rows, dump = lammps(tmp_path, xy, "layers 3 dt 2 heat no until 21", 14)
+    last = rows[-1]
+    assert last[1] == 21.0 and last[14] == 11          # drying time (s), moisture steps
+    assert np.all(rows[-3:, 1] == 21.0)                 # no step after the end
+    # the oracle's 10 steps of 2 s, then one of 1 s
+    x10, *_ = oracle(xy, 10, 2.0, 3)
+    x0 = read_params()["X0"]
+    assert np.abs(nodes(dump) - x10 / x0).max() > 1e-6   # the cut step moved the field
+    xs, *_ = oracle_tail(xy, x10)
+    assert np.abs(nodes(dump) - xs / x0).max() < 1e-10
+
+
+def oracle_tail(xy, x, dt=1.0, layers=3):
+    """One step of ``dt`` from node moisture ``x`` (n, layers), as :func:`oracle` steps."""
+    p = read_params()
+    geo = transport.bead_geometry(xy, CUT)
+    solids = p["solids_density"] * geo["area"] * 2e-3
+    grid = transport.column_grid(geo, np.full(len(xy), 2e-3), solids, layers, 2)
+    gab = (p["GAB_Xm"], p["GAB_C"], p["GAB_K"])
+    kc, _ = transport.air_coefficients(70.0, 1.5, 0.04)
+    law = transport.vapour_surface(kc, 70.0, 70.0, 0.1, gab)
+    diff = lambda v: transport.diffusivity(v, 70.0, p["D_ref"], p["T_ref"], p["D_energy"],
+                                           p["D_moisture"], p["X0"])
+    x_new, *_ = transport.step(grid, np.ravel(x), dt, diff, law, outline=True)
+    return (x_new.reshape(len(xy), layers),)
 
 
 def test_bead_without_column_is_named(tmp_path):

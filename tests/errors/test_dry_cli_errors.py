@@ -204,9 +204,7 @@ def test_short_run_lists_only_written_files(tmp_path, capsys):
 def test_interrupted_run_keeps_its_results(tmp_path, capsys, monkeypatch):
     """Ctrl-C during the drying: the rows so far are written, and the message speaks of
     what dry has (no --resume, which only study and main have)."""
-    from cgms.drying import transport
-
-    step, calls = transport.step, []
+    step, calls = drying.Transport.move, []
 
     def interrupted(*args, **kwargs):
         calls.append(1)
@@ -214,7 +212,7 @@ def test_interrupted_run_keeps_its_results(tmp_path, capsys, monkeypatch):
             raise KeyboardInterrupt
         return step(*args, **kwargs)
 
-    monkeypatch.setattr(transport, "step", interrupted)
+    monkeypatch.setattr(drying.Transport, "move", interrupted)
     out = tmp_path / "out"
     status, err, _ = dry(capsys, out, *SMALL, "--frozen", "--hours", "1")
     assert status == 130

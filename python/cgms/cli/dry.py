@@ -89,8 +89,8 @@ def add_arguments(p):
     p.add_argument("--dx-max", type=float, default=drying.LEVERS["dx_max"],
                    help="largest change of a node's X/X0 per moisture step (default %(default)s)")
     p.add_argument("--resolve", type=float, default=drying.LEVERS["resolve"],
-                   help="re-solve the shape when a bead's dryness moved this much "
-                        "(default %(default)s)")
+                   help="re-solve the shape when the beads' dryness moved this much on "
+                        "average (default %(default)s)")
     p.add_argument("--solver", choices=("auto", "fire", "newton", "newton+fire"),
                    default="auto",
                    help="shape solver, warm started: FIRE, Newton, or Newton for the fresh "
@@ -268,7 +268,7 @@ def _run(args, params, mat_file, out, data, t, s_min, valid_note, world):
     def snapshot(level, row, state):
         maps.append((level, row, state))
         if mech is not None:
-            mech.dump(out / f"tissue.X{level:g}.dump")
+            mech.dump(out / f"tissue.X{level:g}.dump", state["surface"], state["core"])
         print(f"  t = {row['t_h']:6.3f} h  X/X0 = {row['X/X0']:.3f}  A/A0 = {row['A/A0']:.3f}  "
               f"surface {row['surface_X/X0']:.3f} core {row['core_X/X0']:.3f}  "
               f"T_product {row['T_product']:.1f} C", flush=True)

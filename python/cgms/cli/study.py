@@ -50,7 +50,7 @@ def solver_name(row):
 
 
 def print_table(rows):
-    print("\n  tissue        beads     s    X/X0    A/A0    P/P0   EL/EL0  steps*  converged  "
+    print("\n  tissue        beads     s  mf/mf0   A/A0    P/P0   EL/EL0  steps*  converged  "
           "solved by")
     for r in rows:
         print(f"  {r['tissue']:12s} {r['beads']:6d}  {r['s']:4.2f}  {r['X/X0']:.4f}  "

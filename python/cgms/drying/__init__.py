@@ -30,8 +30,11 @@ from . import transport
 
 CONDITIONS = dict(temperature=70.0, humidity=0.1, velocity=1.5, thickness=2e-3,
                   plate_length=0.04, faces=2, outline=True, heat=True, shrink_thickness=True)
+#: ``trigger`` "mean": a shape solve when the beads' mean |change of dryness| since the
+#: last reaches ``resolve`` (248-bead piece: 31 solves, A/A0 and EL/EL0 within 0.0022 of
+#: solving at nearly every step; "max", the most-changed bead: 49 solves, 0.0020)
 LEVERS = dict(layers=10, dx_max=0.02, dt_first=1.0, dt_max=600.0, resolve=0.02, ftol=1e-10,
-              max_iterations=20000, s_min=0.3)
+              max_iterations=20000, s_min=0.3, trigger="mean")
 
 
 #: what the transport needs of each parameter of a ``.params`` file (test, rule): a NaN,
@@ -49,6 +52,11 @@ PARAM_RULES = {
     "GAB_K": (lambda v: 0 < v < 1, "in (0, 1): the isotherm must stay finite up to aw = 1"),
 }
 
+
+#: a warm Newton solve (Mechanics) takes at most this many iterations per Jacobian it
+#: may build (``newton_iterations``): the steps of a kept matrix cost one force
+#: evaluation each
+REUSED_PER_JACOBIAN = 8
 
 #: the run ends when the tissue's X/X0 is this close to the equilibrium moisture of the
 #: air (:func:`equilibrium_ratio`), which it nears ever more slowly and never passes: a
@@ -125,9 +133,16 @@ class Mechanics:
         self.mat = material.with_overrides(material.read(material_file), overrides)
         self.solves = 0
         self.seconds = 0.0
+        self.factor = {}        # Newton's kept matrix (cgms.solve.newton)
+        self.info = {}          # the report of the last Newton solve
         self.dryness = 1.0      # the lowest bead dryness of the last solve
+        fire = method == "fire"
+        # the pressures held at balance in runs too (FIRE holds them so in its solves):
+        # the moisture steps of dry() are runs of one MD step, which then change nothing
+        # of the mechanics' state
         lines = run.tissue_script(Path(data).resolve(), Path(material_file).resolve(), "v_sdry",
-                                  method="quasistatic" if method == "fire" else "newton",
+                                  method="quasistatic" if fire else "newton",
+                                  fix_args="balance yes" if fire else "",
                                   overrides=overrides, diameters=diameters).splitlines()
         # the solves are ours; the per-bead fields go in before the fix that reads them
         lines = [ln for ln in lines
@@ -195,17 +210,27 @@ class Mechanics:
                 # reference of A/A0, and a reference left short of its minimum lets the
                 # later, warm-started solves keep swelling (A/A0 of 1.008 at X/X0 = 0.95
                 # measured with 3 iterations)
-                run.solve_newton(self.lmp, spacing=material.steady_spacing(self.mat, 1.0),
-                                 max_iterations=self.first_iterations)
+                self.info = run.solve_newton(
+                    self.lmp, spacing=material.steady_spacing(self.mat, 1.0),
+                    max_iterations=self.first_iterations, factor=self.factor)
             else:
+                # the matrix of the last Jacobian is kept across the warm solves: the
+                # shape changes little between them, and a step of the kept one costs
+                # one force evaluation instead of a Jacobian's hundred
                 forces = solve.LammpsForces(self.lmp)
-                xy, _ = solve.newton(forces, forces.positions(),
-                                     self.lmp.extract_pair("cut_global"), ftol=1e-13,
-                                     max_iterations=self.newton_iterations)
+                xy, self.info = solve.newton(
+                    forces, forces.positions(), self.lmp.extract_pair("cut_global"),
+                    ftol=1e-13, max_iterations=REUSED_PER_JACOBIAN * self.newton_iterations,
+                    factor=self.factor, max_jacobians=self.newton_iterations)
                 forces(xy)                          # leave LAMMPS at the solution
 
-    def dump(self, path):
+    def dump(self, path, surface=None, core=None):
+        """The tissue to ``path`` for OVITO, with each bead's ``surface`` and ``core``
+        X/X0 (id order; default: those of the last solve) as ``d_xsurf``, ``d_xcore``."""
         compute, columns, names = run.dump_columns()
+        if surface is not None:
+            self._set("d_xsurf", surface)
+            self._set("d_xcore", core)
         with self._stops(self.dryness):
             self.lmp.command(f"write_dump all custom {path} {columns} d_xsurf d_xcore "
                              f"modify sort id {names}")
@@ -219,116 +244,185 @@ class Mechanics:
             self.lmp.close()
 
 
+#: the transport fix's ID in the LAMMPS instance of :func:`dry`
+FIX = "tr"
+#: its global outputs (doc/fix_cgms_transport.rst, Output), by name
+OUT = dict(t_s=0, t_h=1, ratio=2, rate=3, out_face=4, out_edge=5, balance=6, surface=7,
+           core=8, T_product=10, dt_next=11, halved=15)
+
+
+class Transport:
+    """``fix cgms/transport`` (the moisture engine, doc/fix_cgms_transport.rst) in a
+    LAMMPS instance: the mechanics' own (``lmp``), or, for a frozen shape, one of its own
+    holding the beads at ``xy`` and nothing else. ``keywords``: the fix's keywords for the
+    conditions and levers of :func:`dry`. The fix is defined on the fresh state (its
+    columns take their area from it), and again, with the same ID, after each shape
+    solve with the neighbour cutoff of the new shape (it continues its columns, clock and
+    balance)."""
+
+    def __init__(self, xy, params_file, keywords, lmp=None, log="none"):
+        self.own = lmp is None
+        self.file, self.keywords = params_file, keywords
+        self.cutoff = model.CUTOFF_LJ * morphology.spacing(xy)
+        if self.own:
+            self.lmp = run.open_lammps(log=log)
+            self._beads(np.asarray(xy, float))
+        else:
+            self.lmp = lmp
+            # the ghost beads must reach the transport's cutoff (the fresh one, the
+            # largest: the tissue shrinks); the moisture steps move nothing
+            self.lmp.commands_string(f"comm_modify cutoff {2 * self.cutoff!r}\n"
+                                     "unfix nve\n")
+        self.n = self.lmp.get_natoms()
+        self.define(xy)                  # the columns start at X0 on this shape
+
+    def _beads(self, xy):
+        lo, hi = xy.min(axis=0) - 2 * self.cutoff, xy.max(axis=0) + 2 * self.cutoff
+        self.lmp.commands_string("\n".join([
+            "units si", "dimension 2", "boundary s s p", "atom_style atomic",
+            "atom_modify map array",
+            f"region box block {lo[0]!r} {hi[0]!r} {lo[1]!r} {hi[1]!r} -0.5 0.5",
+            "create_box 1 box", "mass 1 1.0", f"neighbor {0.1 * self.cutoff!r} bin",
+            f"comm_modify cutoff {2 * self.cutoff!r}", "thermo_style custom step",
+            "thermo 0"]) + "\n")
+        n = len(xy)
+        x = np.zeros((n, 3))
+        x[:, :2] = xy
+        self.lmp.create_atoms(n, list(range(1, n + 1)), [1] * n, x.ravel().tolist())
+
+    def define(self, xy):
+        """The fix (again) with the neighbour cutoff of the shape ``xy``: pair_style
+        cgms's factor times its median spacing, the nearest shell of the lattice."""
+        self.cutoff = model.CUTOFF_LJ * morphology.spacing(xy)
+        self.lmp.command(f"fix {FIX} all cgms/transport {self.file} {self.keywords} "
+                         f"cutoff {self.cutoff!r}")
+        self.lmp.command("run 0 post no")        # its setup: the outputs of its state
+
+    def move(self, xy=None):
+        """One moisture step; ``xy``: the beads' new positions (frozen transport: moved
+        there first)."""
+        if xy is not None and self.own:
+            x = np.ctypeslib.as_array(self.lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
+            x[:, :2] = xy
+            self.lmp.scatter_atoms("x", 1, 3, np.ctypeslib.as_ctypes(x.ravel()))
+        self.lmp.command("run 1 post no")
+
+    def vector(self):
+        """The fix's global outputs (all 16, as doc/fix_cgms_transport.rst numbers them)."""
+        return [self.lmp.extract_fix(FIX, 0, 1, k) for k in range(16)]
+
+    def beads(self):
+        """Each bead's (dryness for the mechanics, mean, surface, core X/X0), id order."""
+        data = self.lmp.gather(f"f_{FIX}", 1, 4)
+        return np.ctypeslib.as_array(data).reshape(self.n, 4).copy()
+
+    def close(self):
+        if self.own:
+            self.lmp.close()
+
+
+def fix_keywords(cond, lev, hours):
+    """The keywords of ``fix cgms/transport`` for the conditions and levers of :func:`dry`
+    (every one of them maps onto a keyword)."""
+    yes = lambda flag: "yes" if flag else "no"
+    return (f"temperature {cond['temperature']!r} humidity {cond['humidity']!r} "
+            f"velocity {cond['velocity']!r} plate {cond['plate_length']!r} "
+            f"thickness {cond['thickness']!r} faces {cond['faces']} "
+            f"outline {yes(cond['outline'])} heat {yes(cond['heat'])} "
+            f"shrink {yes(cond['shrink_thickness'])} layers {lev['layers']} "
+            f"dt {lev['dt_first']!r} adapt {lev['dx_max']!r} {lev['dt_max']!r} "
+            f"smin {lev['s_min']!r} until {hours * 3600.0!r} every 1")
+
+
+def write_params(params, folder):
+    """``params`` (:func:`read_params`) as a parameter file the fix reads, every value
+    to the last bit."""
+    path = Path(folder) / "drying.params"
+    path.write_text("".join(f"{k} {params[k]!r}\n" for k in PARAM_RULES))
+    return path
+
+
+def resolve_due(s, s_solved, resolve, trigger):
+    """Whether the dryness ``s`` has moved far enough from that of the last shape solve:
+    by ``resolve`` in the tissue's mean of |change| (``trigger="mean"``) or at its
+    most-changed bead (``"max"``)."""
+    change = np.abs(s - s_solved)
+    return (change.mean() if trigger == "mean" else change.max()) >= resolve
+
+
 def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics=None,
-        snapshots=(), on_snapshot=None, transport_geometry=True, rows=None):
+        snapshots=(), on_snapshot=None, rows=None):
     """Dry the tissue whose fresh bead positions (id order) are ``xy`` for ``hours`` or
-    until its X/X0 falls to ``stop``. ``mechanics``: a :class:`Mechanics` (None: the shape
-    is frozen). ``snapshots``: X/X0 levels; when the tissue first reaches one,
-    ``on_snapshot(level, row, state)`` is called (``state``: positions and each bead's mean,
-    surface and core X/X0).
-    ``transport_geometry`` False keeps the transport geometry of the fresh tissue while the
-    mechanics moves (an ingredient switch, and the moisture-domain check).
+    until its X/X0 falls to ``stop``, by ``fix cgms/transport`` (:class:`Transport`).
+    ``mechanics``: a :class:`Mechanics` (None: the shape is frozen); the fix runs in its
+    LAMMPS instance, and a shape solve follows whenever the dryness has moved by
+    ``resolve`` (:func:`resolve_due`). ``snapshots``: X/X0 levels; when the tissue first
+    reaches one, ``on_snapshot(level, row, state)`` is called (``state``: positions and
+    each bead's mean, surface and core X/X0).
     The run also ends when the tissue's X/X0 comes within :data:`EQUILIBRIUM_GAP` of the
     air's equilibrium moisture (:func:`equilibrium_ratio`), which a lower ``stop`` never
     reaches. ``rows``: a list the records are appended to as they are made, so that a
     caller keeps the records so far when the run stops with an error.
-    Returns dict(rows=[...], x=node moisture, grid=..., xy=positions, balance=...,
-    ended="stop", "equilibrium" or "hours", equilibrium=the air's X/X0, halved=how many
-    moisture steps were halved to keep the moisture non-negative)."""
+    Returns dict(rows=[...], xy=positions, seconds=..., ended="stop", "equilibrium" or
+    "hours", equilibrium=the air's X/X0, halved=how many moisture steps were halved to
+    keep the moisture non-negative, transport=the per-bead outputs at the end)."""
+    import tempfile
+
     cond = dict(CONDITIONS, **(conditions or {}))
     lev = dict(LEVERS, **(levers or {}))
-    x0 = params["X0"]
-    gab = (params["GAB_Xm"], params["GAB_C"], params["GAB_K"])
-    kc, h = transport.air_coefficients(cond["temperature"], cond["velocity"],
-                                       cond["plate_length"])
-    n = len(xy)
+    start = time.perf_counter()
+    fresh_xy = np.asarray(xy, float)
     if mechanics is not None:
-        xy = mechanics.solve(np.ones(n))          # the fresh steady state: the reference
+        xy = mechanics.solve(np.ones(len(fresh_xy)))    # the fresh steady state: the reference
     fresh = morphology.measures(xy)
-    geo = bead_geometry(xy)
-    area0 = geo["area"].copy()
-    thick0 = np.full(n, cond["thickness"])
-    solids = params["solids_density"] * area0 * thick0
-    grid = transport.column_grid(geo, thick0, solids, lev["layers"], cond["faces"])
-    x = np.full(n * lev["layers"], x0)
-    water0 = transport.water(grid, x)
-    s_solved = np.ones(n)
-    t, dt, out_face, out_edge = 0.0, lev["dt_first"], 0.0, 0.0
+    shape = morphology.normalise(fresh, fresh)
     rows = [] if rows is None else rows
     pending = sorted(snapshots, reverse=True)
-    start = time.perf_counter()
-
-    def record(rate):
-        mean, surf, core = transport.bead_moisture(grid, x)
-        shape = morphology.normalise(morphology.measures(xy), fresh)
-        w = transport.water(grid, x)
-        row = {"t_h": t / 3600, "X/X0": w / water0, "rate_per_h": rate,
-               "surface_X/X0": float(np.average(surf, weights=solids)) / x0,
-               "core_X/X0": float(np.average(core, weights=solids)) / x0,
-               "T_product": t_product, **shape,
-               "out_faces_kg": out_face, "out_outline_kg": out_edge,
-               "balance": (water0 - w - out_face - out_edge) / water0,
-               "solves": mechanics.solves if mechanics else 0,
-               "seconds": time.perf_counter() - start}
-        row["case_hardening"] = row["core_X/X0"] - row["surface_X/X0"]
-        rows.append(row)
-        return row, dict(xy=xy, s=mean / x0, surface=surf / x0, core=core / x0)
-
-    def temperature():
-        if not cond["heat"]:
-            return cond["temperature"]
-        # D at the last product temperature for the surface resistance: a lag of one step
-        d = transport.diffusivity(x, t_product, params["D_ref"], params["T_ref"],
-                                  params["D_energy"], params["D_moisture"], x0)
-        return transport.product_temperature(kc, h, cond["temperature"], cond["humidity"],
-                                             gab, grid, x, d, cond["outline"])
-
-    t_product = cond["temperature"]     # the first guess temperature() starts from
-    t_product = temperature()
-    record(0.0)
-    t_end = hours * 3600
     x_eq = equilibrium_ratio(params, cond["humidity"])
     halved = 0
-    while t < t_end - 1e-9 and rows[-1]["X/X0"] > max(stop, x_eq + EQUILIBRIUM_GAP):
-        dt = min(dt, t_end - t)
-        t_product = temperature()
-        law = transport.vapour_surface(kc, t_product, cond["temperature"], cond["humidity"],
-                                       gab)
+    with tempfile.TemporaryDirectory(prefix="cgms-dry-") as folder:
+        engine = Transport(xy, write_params(params, folder), fix_keywords(cond, lev, hours),
+                           lmp=mechanics.lmp if mechanics else None)
+        try:
+            def record():
+                v = engine.vector()
+                row = {"t_h": v[OUT["t_h"]], "X/X0": v[OUT["ratio"]],
+                       "rate_per_h": v[OUT["rate"]], "surface_X/X0": v[OUT["surface"]],
+                       "core_X/X0": v[OUT["core"]], "T_product": v[OUT["T_product"]],
+                       **shape, "out_faces_kg": v[OUT["out_face"]],
+                       "out_outline_kg": v[OUT["out_edge"]], "balance": v[OUT["balance"]],
+                       "solves": mechanics.solves if mechanics else 0,
+                       "seconds": time.perf_counter() - start}
+                row["case_hardening"] = row["core_X/X0"] - row["surface_X/X0"]
+                rows.append(row)
+                return row, v
 
-        def diff(v):
-            return transport.diffusivity(v, t_product, params["D_ref"], params["T_ref"],
-                                         params["D_energy"], params["D_moisture"], x0)
-
-        before = transport.water(grid, x)
-        x_new, face, edge, dt, cut = positive_step(grid, x, dt, diff, law, cond["outline"])
-        halved += cut
-        change = np.abs(x_new - x).max() / x0
-        x = x_new
-        t += dt
-        out_face += face
-        out_edge += edge
-        rate = (before - transport.water(grid, x)) / water0 / (dt / 3600)
-        dt = min(lev["dt_max"], dt * min(2.0, lev["dx_max"] / max(change, 1e-12)))
-        s = np.clip(transport.bead_moisture(grid, x)[0] / x0, lev["s_min"], 1.0)
-        if mechanics is not None and np.abs(s - s_solved).max() >= lev["resolve"]:
-            _, surf, core = transport.bead_moisture(grid, x)
-            xy = mechanics.solve(s, surf / x0, core / x0)
-            s_solved = s
-            if transport_geometry:
-                geo = bead_geometry(xy)
-                thick = thick0 * np.sqrt(geo["area"] / area0) if cond["shrink_thickness"] \
-                    else thick0
-                grid = transport.column_grid(geo, thick, solids, lev["layers"], cond["faces"])
-        row, state = record(rate)
-        while pending and row["X/X0"] <= pending[0]:
-            level = pending.pop(0)
-            if on_snapshot:
-                on_snapshot(level, row, state)
+            row, v = record()
+            beads = engine.beads()
+            s_solved = beads[:, 0]
+            t_end = hours * 3600
+            while v[OUT["t_s"]] < t_end - 1e-9 and row["X/X0"] > max(stop, x_eq + EQUILIBRIUM_GAP):
+                engine.move()
+                beads = engine.beads()
+                if mechanics is not None and resolve_due(beads[:, 0], s_solved, lev["resolve"],
+                                                         lev["trigger"]):
+                    xy = mechanics.solve(beads[:, 0], beads[:, 2], beads[:, 3])
+                    s_solved = beads[:, 0]
+                    shape = morphology.normalise(morphology.measures(xy), fresh)
+                    engine.define(xy)
+                row, v = record()
+                halved += int(v[OUT["halved"]] > 0)
+                while pending and row["X/X0"] <= pending[0]:
+                    level = pending.pop(0)
+                    if on_snapshot:
+                        on_snapshot(level, row, dict(xy=xy, s=beads[:, 1], surface=beads[:, 2],
+                                                     core=beads[:, 3]))
+        finally:
+            engine.close()
     ended = "stop" if rows[-1]["X/X0"] <= stop else \
         "equilibrium" if rows[-1]["X/X0"] <= x_eq + EQUILIBRIUM_GAP else "hours"
-    return dict(rows=rows, x=x, grid=grid, xy=xy, water0=water0, kc=kc, h=h,
-                seconds=time.perf_counter() - start, ended=ended, equilibrium=x_eq,
-                halved=halved)
+    return dict(rows=rows, xy=xy, seconds=time.perf_counter() - start, ended=ended,
+                equilibrium=x_eq, halved=halved, transport=beads)
 
 
 def equilibrium_ratio(params, humidity):
@@ -337,22 +431,6 @@ def equilibrium_ratio(params, humidity):
     surface is cooler than the air, its aw at a given X lower, so it holds more)."""
     return float(transport.gab_moisture(humidity, params["GAB_Xm"], params["GAB_C"],
                                         params["GAB_K"])) / params["X0"]
-
-
-def positive_step(grid, x, dt, diff, law, outline):
-    """:func:`cgms.transport.step` of at most ``dt``, halved until every node's moisture
-    stays finite and non-negative: the surface law is linearised at the start of the
-    step, and while the surface holds free water (aw = 1) it is a constant flux, which a
-    long step draws past the water the surface nodes hold (measured with dx_max 1 and no
-    heat: the faces' mean X/X0 at -0.15). Returns (x, out through faces, out through the outline, the
-    step taken, how often it was halved); RuntimeError after :data:`MAX_HALVINGS`."""
-    for cut in range(MAX_HALVINGS + 1):
-        x_new, face, edge, _ = transport.step(grid, x, dt, diff, law, outline=outline)
-        if np.all(np.isfinite(x_new)) and x_new.min() >= 0:
-            return x_new, face, edge, dt, cut
-        dt *= 0.5
-    raise RuntimeError(f"no moisture step keeps every node's moisture finite and "
-                       f"non-negative, down to {2 * dt:.3g} s")
 
 
 def drying_time(rows, level):
