@@ -32,8 +32,18 @@ import scipy.sparse as sp
 from . import model, shaped
 
 #: parameters beyond cgms.shaped.DEFAULTS: kg_ratio, the lamella's compatibility stiffness
-#: k_g in units of the wall's stretch stiffness EA / x_ref
-DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0)
+#: k_g in units of the wall's stretch stiffness EA / x_ref; the gap law between the cells'
+#: fluids (doc/model.md, "The gap between the cells"): ``strip`` "chord" (the strip of
+#: ``lamella`` d_p runs along the chords) or "contour" (along the walls' own length,
+#: max(chord, rest) smoothed over ``smooth`` times the fresh stretch of a wall); ``void``,
+#: the intercellular space of a turgid cell as a fraction of its polygon, open while its
+#: walls are stretched and closed, smoothly, as their mean strain falls from
+#: ``void_onset`` times the fresh strain to zero
+#: ``iso``: the share of the bond target that follows only the cell's size and rotation,
+#: sqrt(det F) R(F), rather than its whole deformation F (0: the whole F; 1: the network
+#: ignores the cells' flattening, as the MFC's centroid network nearly does)
+DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
+                smooth=0.25, iso=0.0)
 
 
 def _cof(F):
@@ -84,7 +94,29 @@ def build(xy0, mat, params=None, spacing=None):
     geo["Cf"] = sp.csr_matrix((np.concatenate(vf), (np.concatenate(rf), np.concatenate(cf))),
                               shape=shape)
     geo["rim"] = geo["boundary"][bonds[:, 0]] & geo["boundary"][bonds[:, 1]]
+    geo.update(strip=p["strip"], void=p["void"], void_onset=p["void_onset"],
+               smooth=p["smooth"], iso=p["iso"])
+    if p["strip"] not in ("chord", "contour"):
+        raise ValueError(f"strip must be 'chord' or 'contour', not {p['strip']!r}")
+    if p["void"]:
+        _fresh_with_void(geo, mat)
     return geo
+
+
+def _fresh_with_void(geo, mat):
+    """Fresh fluid areas and wall rest lengths when the turgid cells hold intercellular
+    space: the built lattice (F = I) balances when H P_f dA/d(eta) = T L under a uniform
+    dilation (1 + eta) of an interior cell, with dA/d(eta) = 2 D (1 - void) - w L (the void
+    fully open and the walls taut at the fresh strain, so neither smoothing acts)."""
+    w = geo["lamella"] * mat["pectin"]
+    chord0 = np.hypot(geo["d0"][:, 0], geo["d0"][:, 1])
+    L = np.bincount(geo["cell"], chord0, minlength=geo["n"])
+    D = geo["poly_area0"]
+    i = int(np.argmax(~geo["boundary"]))
+    T = mat["height"] * mat["P_f"] * (2 * D[i] * (1 - geo["void"]) - w * L[i]) / L[i]
+    geo["eps"] = T / geo["wall_EA"]
+    geo["rest0"] = chord0 / (1 + geo["eps"])
+    geo["A_f0"] = D * (1 - geo["void"]) - w * L
 
 
 def at_level(geo, s):
@@ -96,8 +128,12 @@ def at_level(geo, s):
     rest = geo["rest0"] * float(model.perimeter_contraction(mat, s))
     f = np.repeat(np.where(geo["rim"], beta, 1.0), 2)
     C = sp.csr_matrix(geo["Cx"] - sp.diags(f) @ geo["Cf"])
+    f_bond = np.where(geo["rim"], beta, 1.0)
     return dict(geo, s=s, beta=beta, A_f=s * geo["A_f0"], P_T=s * mat["P_f"], rest=rest,
-                C=C, r_lj=float(model.lj_radius(mat, s)))
+                C=C, f_bond=f_bond, r_lj=float(model.lj_radius(mat, s)),
+                rest_sum=np.bincount(geo["cell"], rest, minlength=geo["n"]),
+                delta=geo["smooth"] * geo["eps"] * rest,
+                void_strain=geo["void_onset"] * geo["eps"])
 
 
 def split(z, n):
@@ -115,15 +151,198 @@ def fresh_state(geo):
     return join(geo["x0"], np.broadcast_to(np.eye(2), (geo["n"], 2, 2)))
 
 
+def contour_length(chord, lev):
+    """Each wall's length along its folds, the strip's length: the chord with ``strip``
+    "chord"; with "contour" max(chord, rest), joined C1 over chord - rest in +-delta.
+    Returns the length and its first and second derivatives in the chord."""
+    if lev["strip"] == "chord":
+        return chord, np.ones_like(chord), np.zeros_like(chord)
+    r, d = lev["rest"], lev["delta"]
+    t = chord - r
+    m = np.where(t >= d, chord, np.where(t <= -d, r, r + (t + d) ** 2 / (4 * d)))
+    return m, np.clip((t + d) / (2 * d), 0.0, 1.0), np.where(np.abs(t) < d, 0.5 / d, 0.0)
+
+
+def void_open(S, lev):
+    """The open fraction psi of a cell's intercellular space, from its chord sum S: the
+    walls' mean strain e = S / (sum of rest lengths) - 1; psi = 0 for e <= 0, 1 for e >=
+    ``void_strain``, the cubic 3 t^2 - 2 t^3 of t = e / void_strain between (C1). Returns
+    psi and its first and second derivatives in S."""
+    R, e1 = lev["rest_sum"], lev["void_strain"]
+    t = np.clip((S / R - 1) / e1, 0.0, 1.0)
+    inside = (t > 0) & (t < 1)
+    return (t * t * (3 - 2 * t), np.where(inside, 6 * t * (1 - t), 0.0) / (e1 * R),
+            np.where(inside, 6 - 12 * t, 0.0) / (e1 * R) ** 2)
+
+
+def _det_derivatives(F, lev):
+    """D = det(F) A_poly0 per cell, dD/dF (n, 4) and d2 det(F)/dF2 (4, 4, the same for all)."""
+    det = F[:, 0, 0] * F[:, 1, 1] - F[:, 0, 1] * F[:, 1, 0]
+    D2 = np.zeros((4, 4))
+    D2[0, 3] = D2[3, 0] = 1.0
+    D2[1, 2] = D2[2, 1] = -1.0
+    return (det * lev["poly_area0"], lev["poly_area0"][:, None] * _cof(F).reshape(-1, 4),
+            D2)
+
+
+def _chord_derivatives(c, chord, lev):
+    """Per wall dl/dF (e, 4) and d2l/dF2 (e, 4, 4) of its chord l = |F d0|."""
+    u = c / chord[:, None]
+    d0 = lev["d0"]
+    gl = (u[:, :, None] * d0[:, None, :]).reshape(-1, 4)
+    P = (np.eye(2)[None] - u[:, :, None] * u[:, None, :]) / chord[:, None, None]
+    l2 = np.einsum("eac,ebd->eabcd", P, d0[:, :, None] * d0[:, None, :]).reshape(-1, 4, 4)
+    return gl, l2
+
+
+def _per_cell(values, lev):
+    """Sum per-wall arrays (e, ...) onto their cells (n, ...)."""
+    out = np.zeros((lev["n"],) + values.shape[1:])
+    np.add.at(out, lev["cell"], values)
+    return out
+
+
+def fluid_area(F, c, chord, lev, order=0):
+    """The fluid's area per cell, A = D (1 - void psi) - w sum_e m(l_e): the polygon D =
+    det(F) A_poly0 less the intercellular space (open while the walls are stretched,
+    :func:`void_open`) and less a strip of w = ``lamella`` d_p along each wall
+    (:func:`contour_length`). With ``order`` 1 also dA/dF (n, 4), with 2 also d2A/dF2
+    (n, 4, 4)."""
+    w = lev["lamella"] * lev["mat"]["pectin"]
+    g_v = lev["void"]
+    D, gD, D2 = _det_derivatives(F, lev)
+    m, m1, m2 = contour_length(chord, lev)
+    S = np.bincount(lev["cell"], chord, minlength=lev["n"])
+    psi, p1, p2 = void_open(S, lev) if g_v else (np.zeros(lev["n"]),) * 3
+    A = D * (1 - g_v * psi) - w * np.bincount(lev["cell"], m, minlength=lev["n"])
+    if order == 0:
+        return A
+    gl, l2 = _chord_derivatives(c, chord, lev)
+    gS = _per_cell(gl, lev)
+    gA = gD * (1 - g_v * psi)[:, None] - g_v * (D * p1)[:, None] * gS \
+        - w * _per_cell(m1[:, None] * gl, lev)
+    if order == 1:
+        return A, gA
+    cross = gD[:, :, None] * gS[:, None, :]
+    hA = ((1 - g_v * psi)[:, None, None] * lev["poly_area0"][:, None, None] * D2[None]
+          - g_v * (p1[:, None, None] * (cross + cross.transpose(0, 2, 1))
+                   + (D * p2)[:, None, None] * gS[:, :, None] * gS[:, None, :]
+                   + (D * p1)[:, None, None] * _per_cell(l2, lev))
+          - w * _per_cell(m2[:, None, None] * gl[:, :, None] * gl[:, None, :]
+                          + m1[:, None, None] * l2, lev))
+    return A, gA, hA
+
+
+_DP = np.array([1.0, 0.0, 0.0, 1.0])        # d(a + d)/dF, F flattened (a, b, c, d)
+_DQ = np.array([0.0, -1.0, 1.0, 0.0])       # d(c - b)/dF
+
+
+def _iso_scale(F):
+    """phi = sqrt(det F) / r with r = |(a + d, c - b)|, so that phi [[p, -q], [q, p]] =
+    sqrt(det F) R(F), R the rotation of F's polar decomposition; with p, q and phi's first
+    (n, 4) and second (n, 4, 4) derivatives."""
+    a, b, c, d = F[:, 0, 0], F[:, 0, 1], F[:, 1, 0], F[:, 1, 1]
+    J = a * d - b * c
+    p, q = a + d, c - b
+    r = np.hypot(p, q)
+    gJ = np.stack([d, -c, -b, a], -1)
+    D2 = np.zeros((4, 4))
+    D2[0, 3] = D2[3, 0] = 1.0
+    D2[1, 2] = D2[2, 1] = -1.0
+    gr = (p[:, None] * _DP + q[:, None] * _DQ) / r[:, None]
+    hr = ((np.outer(_DP, _DP) + np.outer(_DQ, _DQ))[None] - gr[:, :, None] * gr[:, None, :]) \
+        / r[:, None, None]
+    phi = np.sqrt(J) / r
+    gphi = phi[:, None] * (gJ / (2 * J[:, None]) - gr / r[:, None])
+    hphi = (gphi[:, :, None] * gphi[:, None, :] / phi[:, None, None]
+            + phi[:, None, None] * (D2[None] / (2 * J[:, None, None])
+                                    - gJ[:, :, None] * gJ[:, None, :] / (2 * J ** 2)[:, None, None]
+                                    - hr / r[:, None, None]
+                                    + gr[:, :, None] * gr[:, None, :] / (r ** 2)[:, None, None]))
+    return p, q, phi, gphi, hphi
+
+
+def _bond_target(F, d0, iso, order=1):
+    """v = G(F) d0 per bond, G = (1 - iso) F + iso sqrt(det F) R(F); with dv/dF (b, 2, 4)
+    and, with ``order`` 2, d2v/dF2 (b, 2, 4, 4)."""
+    e = d0                                       # (M d0)_c = p e_c + q h_c
+    h = np.stack([-d0[:, 1], d0[:, 0]], -1)
+    p, q, phi, gphi, hphi = _iso_scale(F)
+    Fd = np.einsum("bcj,bj->bc", F, d0)
+    Md = p[:, None] * e + q[:, None] * h
+    v = (1 - iso) * Fd + iso * phi[:, None] * Md
+    gF = np.zeros((len(F), 2, 4))
+    for c in range(2):
+        gF[:, c, 2 * c:2 * c + 2] = d0
+    gM = e[:, :, None] * _DP + h[:, :, None] * _DQ   # (b, 2, 4)
+    dv = (1 - iso) * gF + iso * (Md[:, :, None] * gphi[:, None, :] + phi[:, None, None] * gM)
+    if order == 1:
+        return v, dv
+    cross = gphi[:, None, :, None] * gM[:, :, None, :]
+    d2v = iso * (Md[:, :, None, None] * hphi[:, None] + cross + cross.transpose(0, 1, 3, 2))
+    return v, dv, d2v
+
+
+def mismatch(z, lev):
+    """Every bond's mismatch m_b (flattened, 2 per bond)."""
+    if not lev["iso"]:
+        return lev["C"] @ z
+    x, F = split(z, lev["n"])
+    i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
+    t = (_bond_target(F[i], lev["bond0"], lev["iso"])[0]
+         + _bond_target(F[k], lev["bond0"], lev["iso"])[0])
+    return np.ravel(x[k] - x[i] - 0.5 * lev["f_bond"][:, None] * t)
+
+
+def compatibility(z, lev, order=1):
+    """The middle lamella's compatibility k_g / 2 sum_b |m_b|^2, m_b = x_k - x_i - f_b
+    (G(F_i) + G(F_k)) d0_b / 2: its energy and gradient (6n), with ``order`` 2 also its
+    Hessian (sparse). With ``iso`` 0 the map is linear (lev["C"])."""
+    n, k_g = lev["n"], lev["k_g"]
+    if not lev["iso"]:
+        m = lev["C"] @ z
+        out = (0.5 * k_g * m @ m, k_g * (lev["C"].T @ m))
+        return out + (k_g * (lev["C"].T @ lev["C"]),) if order == 2 else out
+    x, F = split(z, n)
+    i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
+    d0, f = lev["bond0"], lev["f_bond"]
+    ti = _bond_target(F[i], d0, lev["iso"], order)
+    tk = _bond_target(F[k], d0, lev["iso"], order)
+    m = x[k] - x[i] - 0.5 * f[:, None] * (ti[0] + tk[0])
+    gx = np.zeros((n, 2))
+    np.add.at(gx, k, k_g * m)
+    np.add.at(gx, i, -k_g * m)
+    dFi = -0.5 * f[:, None, None] * ti[1]            # dm/dF_i (b, 2, 4)
+    dFk = -0.5 * f[:, None, None] * tk[1]
+    gF = np.zeros((n, 4))
+    np.add.at(gF, i, k_g * np.einsum("bc,bcj->bj", m, dFi))
+    np.add.at(gF, k, k_g * np.einsum("bc,bcj->bj", m, dFk))
+    E, g = 0.5 * k_g * np.sum(m * m), join(gx, gF)
+    if order == 1:
+        return E, g
+    nb = len(i)
+    Jm = np.zeros((nb, 2, 12))                     # columns: x_i, x_k, F_i, F_k
+    Jm[:, :, 0:2] = -np.eye(2)
+    Jm[:, :, 2:4] = np.eye(2)
+    Jm[:, :, 4:8] = dFi
+    Jm[:, :, 8:12] = dFk
+    blk = k_g * np.einsum("bci,bcj->bij", Jm, Jm)
+    blk[:, 4:8, 4:8] -= 0.5 * k_g * np.einsum("b,bc,bcij->bij", f, m, ti[2])
+    blk[:, 8:12, 8:12] -= 0.5 * k_g * np.einsum("b,bc,bcij->bij", f, m, tk[2])
+    idx = np.concatenate([2 * i[:, None] + np.arange(2), 2 * k[:, None] + np.arange(2),
+                          2 * n + 4 * i[:, None] + np.arange(4),
+                          2 * n + 4 * k[:, None] + np.arange(4)], axis=1)
+    rows = np.repeat(idx, 12, axis=1).ravel()
+    cols = np.tile(idx, (1, 12)).ravel()
+    return E, g, sp.csr_matrix((blk.ravel(), (rows, cols)), shape=(6 * n, 6 * n))
+
+
 def cells(z, lev):
-    """Per wall chord vectors and lengths, per cell fluid area and polygon area."""
+    """Per wall chord vectors and lengths, per cell fluid area."""
     x, F = split(z, lev["n"])
     c = np.einsum("eab,eb->ea", F[lev["cell"]], lev["d0"])
     chord = np.hypot(c[:, 0], c[:, 1])
-    det = F[:, 0, 0] * F[:, 1, 1] - F[:, 0, 1] * F[:, 1, 0]
-    poly = det * lev["poly_area0"]
-    A = shaped.fluid_area(poly, chord, lev, lev["mat"])
-    return x, F, c, chord, A
+    return x, F, c, chord, fluid_area(F, c, chord, lev)
 
 
 def _terms(z, lev):
@@ -132,8 +351,7 @@ def _terms(z, lev):
     H, K = mat["height"], mat["K"]
     e_w, de_w = shaped.wall_energy(chord, lev["rest"], lev["wall_EA"], lev["buckle"],
                                    lev["soft"])
-    m = lev["C"] @ z
-    return x, F, c, chord, A, e_w, de_w, m, H, K
+    return x, F, c, chord, A, e_w, de_w, mismatch(z, lev), H, K
 
 
 def energy(z, lev, gradient=True):
@@ -144,21 +362,15 @@ def energy(z, lev, gradient=True):
     if np.any(A <= 0):
         return (np.inf, np.full(6 * n, np.nan)) if gradient else np.inf
     E_lj, g_lj = shaped.lj_energy(x, lev)
-    E = (shaped.fluid_energy(A, lev["A_f"], lev["P_T"], K, H).sum() + e_w.sum()
-         + 0.5 * lev["k_g"] * m @ m + E_lj)
+    E_c, g_c = compatibility(z, lev)
+    E = shaped.fluid_energy(A, lev["A_f"], lev["P_T"], K, H).sum() + e_w.sum() + E_c + E_lj
     if not gradient:
         return E
     f1 = -H * shaped.tait_pressure(A, lev["A_f"], lev["P_T"], K)      # dE/dA
-    u = c / chord[:, None]
-    w = lev["lamella"] * lev["mat"]["pectin"]
-    dl = de_w - f1[lev["cell"]] * w                                     # dE/dl per wall
-    gF = (f1 * lev["poly_area0"])[:, None, None] * _cof(F)
-    ge = dl[:, None, None] * u[:, :, None] * lev["d0"][:, None, :]
-    for a in range(2):
-        for b in range(2):
-            gF[:, a, b] += np.bincount(lev["cell"], ge[:, a, b], minlength=n)
-    g = join(g_lj, gF) + lev["k_g"] * (lev["C"].T @ m)
-    return E, g
+    _, gA = fluid_area(F, c, chord, lev, order=1)
+    gl, _ = _chord_derivatives(c, chord, lev)
+    gF = f1[:, None] * gA + _per_cell(de_w[:, None] * gl, lev)
+    return E, join(g_lj, gF) + g_c
 
 
 def hessian(z, lev):
@@ -167,38 +379,22 @@ def hessian(z, lev):
     d2l/dF2 = (I - u u^T)/l (x) d0 d0^T), the constant compatibility k_g C^T C and the
     LJ pairs."""
     x, F, c, chord, A, e_w, de_w, m, H, K = _terms(z, lev)
-    n, cell = lev["n"], lev["cell"]
+    n = lev["n"]
     f1 = -H * shaped.tait_pressure(A, lev["A_f"], lev["P_T"], K)
     f2 = 7 * H * K * lev["A_f"] ** 7 / A ** 8
     k = lev["wall_EA"] / lev["rest"]
     lb = lev["rest"] - lev["buckle"] / k
     d2w = np.where(chord >= lb, k, lev["soft"] * k)
-    w = lev["lamella"] * lev["mat"]["pectin"]
-    u = c / chord[:, None]
-    d0 = lev["d0"]
-    gl = (u[:, :, None] * d0[:, None, :]).reshape(-1, 4)               # dl/dF
-    P = (np.eye(2)[None] - u[:, :, None] * u[:, None, :]) / chord[:, None, None]
-    l2 = np.einsum("eac,ebd->eabcd", P, d0[:, :, None] * d0[:, None, :]).reshape(-1, 4, 4)
-    D2 = np.zeros((4, 4))
-    D2[0, 3] = D2[3, 0] = 1.0
-    D2[1, 2] = D2[2, 1] = -1.0
-    gA = (lev["poly_area0"][:, None] * _cof(F).reshape(n, 4))
-    sum_gl = np.zeros((n, 4))
-    blocks = np.zeros((n, 4, 4))
-    dl = de_w - f1[cell] * w
-    ew = d2w[:, None, None] * gl[:, :, None] * gl[:, None, :] + dl[:, None, None] * l2
-    for j in range(4):
-        sum_gl[:, j] = np.bincount(cell, gl[:, j], minlength=n)
-        for i in range(4):
-            blocks[:, i, j] = np.bincount(cell, ew[:, i, j], minlength=n)
-    gA = gA - w * sum_gl
-    blocks += f2[:, None, None] * gA[:, :, None] * gA[:, None, :]
-    blocks += (f1 * lev["poly_area0"])[:, None, None] * D2[None]
+    _, gA, hA = fluid_area(F, c, chord, lev, order=2)
+    gl, l2 = _chord_derivatives(c, chord, lev)
+    blocks = _per_cell(d2w[:, None, None] * gl[:, :, None] * gl[:, None, :]
+                       + de_w[:, None, None] * l2, lev)
+    blocks += f2[:, None, None] * gA[:, :, None] * gA[:, None, :] + f1[:, None, None] * hA
     idx = 2 * n + 4 * np.arange(n)[:, None] + np.arange(4)[None]
     rows = np.repeat(idx, 4, axis=1).ravel()
     cols = np.tile(idx, (1, 4)).ravel()
     Hm = sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(6 * n, 6 * n))
-    Hm = Hm + lev["k_g"] * (lev["C"].T @ lev["C"])
+    Hm = Hm + compatibility(z, lev, order=2)[2]
     Hx = shaped.lj_hessian(x, lev).tocoo()
     Hm = Hm + sp.csr_matrix((Hx.data, (Hx.row, Hx.col)), shape=(6 * n, 6 * n))
     return sp.csr_matrix(Hm)

@@ -69,8 +69,8 @@ def mfc(name, s):
 
 
 def ensemble(folder, s):
-    """The MFC ensemble of the calibration tissue at level s (branch ``measures``,
-    reference/mfc/calibration/ensemble): {measure: (mean, sd)}, mean centroids, or None."""
+    """The MFC ensemble of the calibration tissue at level s
+    (reference/mfc/calibration/ensemble): {measure: (mean, sd)}, mean centroids, or None."""
     folder = Path(folder)
     path = folder / f"centroids.s{s:g}.txt"
     if not path.is_file():
@@ -111,9 +111,15 @@ def geometry(name, params):
 
 def wall_params(mat, params):
     """The shaped model's parameters for a material: the MFC's wall stiffness E t H (apple
-    330 N/m, potato 660 N/m, H = 6 um) times ``EA_ratio``; the rest as given."""
+    330 N/m, potato 660 N/m, H = 6 um) times ``EA_ratio``; the rest as given, with the
+    entries of a ``potato`` sub-dict replacing them on potato tissues (the gap law is
+    measured per material: studies/shaped/gap.py)."""
     p = dict(params)
-    Et = 660.0 if mat["diameter"] > 175e-6 else 330.0
+    potato = mat["diameter"] > 175e-6
+    overrides = p.pop("potato", {})      # {"potato": {...}}: values for potato tissues only
+    if potato:
+        p.update(overrides)
+    Et = 660.0 if potato else 330.0
     p["wall_EA"] = Et * mat["height"] * p.pop("EA_ratio", 1.0)
     return p
 

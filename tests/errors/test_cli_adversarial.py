@@ -128,6 +128,10 @@ REFUSED = [
     ("mfc --stage nan --out o", "--stage must be in [0, 1)"),
     ("mfc --newton nan --out o", "--newton must be >= 0"),
     ("mfc --material nosuch --out o", "material file 'nosuch' not found"),
+    ("mfc --temperature 150 --out o", "--temperature must be in 0 .. 100 (C"),
+    ("mfc --temperature -1 --out o", "--temperature must be in 0 .. 100 (C"),
+    ("mfc --temperature nan --out o", "--temperature must be in 0 .. 100 (C"),
+    ("mfc --temperature warm --out o", "argument --temperature: invalid float value"),
 ]
 
 #: stops found by LAMMPS on a small tissue, each quick (before or at the first steps)

@@ -157,3 +157,81 @@ def test_area_follows_water_in_a_dried_block(s):
     ratio = A / lev["A_f"]
     assert np.all((lo <= ratio) & (ratio <= hi)), (ratio, lo, hi)
     assert np.all(dP < 0.1 * MAT["P_f"])
+
+
+#: the gap law of the contour strip and the intercellular space (shaped_tensor.DEFAULTS);
+#: ``smooth`` and ``void_onset`` widened so that the jittered state below puts walls
+#: inside the C1 joins and cells inside the void's transition
+GAP = dict(strip="contour", lamella=0.39, void=0.063, void_onset=2.0, smooth=2.0)
+
+
+def gap_kinds(z, lev):
+    """Walls inside the contour's smoothing band, cells inside the void's transition."""
+    _, _, _, chord, _ = st.cells(z, lev)
+    band = int(np.sum(np.abs(chord - lev["rest"]) < lev["delta"]))
+    S = np.bincount(lev["cell"], chord, minlength=lev["n"])
+    e = S / lev["rest_sum"] - 1
+    return band, int(np.sum((e > 0) & (e < lev["void_strain"])))
+
+
+@pytest.mark.parametrize("s, seed", [(0.9, 11), (0.7, 5)])
+def test_gap_law_derivatives(s, seed):
+    """The contour strip and the void (both C1 joins, second derivatives piecewise) in
+    the gradient and the Hessian, with walls inside the joins and cells inside the void's
+    transition; differences as for the plain law."""
+    z, lev = dried_state(s=s, seed=seed, params=GAP)
+    band, opening = gap_kinds(z, lev)
+    assert band > 0 and opening > 0, (band, opening)
+    u = units(lev["n"])
+    E, g = st.energy(z, lev)
+    assert_matches_differences(g * u, lambda y: st.energy(y * u, lev, gradient=False),
+                               z / u, 1e-5, abs(E))
+    Hs = st.hessian(z, lev).toarray() * np.outer(u, u)
+    assert_matches_differences(Hs, lambda y: st.energy(y * u, lev)[1] * u, z / u, 1e-5,
+                               gradient_scale(z, lev))
+
+
+@pytest.mark.parametrize("shape", [("rectangle", 1.25e-3, 1.5e-3), ("disc", 0.5e-3)])
+def test_built_lattice_with_gap_law_is_in_balance(shape):
+    """The fresh strain of the gap law (void open, walls taut) balances the built lattice
+    as the plain law's does, and the void takes its fraction of every fresh polygon."""
+    xy = getattr(tissue, shape[0])(*shape[1:], L)
+    params = dict(GAP, void_onset=0.5, smooth=0.25)
+    geo = st.build(xy, MAT, params)
+    lev = st.at_level(geo, 1.0)
+    fx, fF = st.forces(st.fresh_state(geo), lev)
+    tension = geo["wall_EA"] * geo["eps"]
+    assert fx <= 64 * 24 * EPS * tension
+    assert fF <= 64 * 24 * EPS * tension
+    w = params["lamella"] * MAT["pectin"]
+    L0 = np.bincount(geo["cell"], np.hypot(*geo["d0"].T), minlength=geo["n"])
+    np.testing.assert_allclose(geo["A_f0"], geo["poly_area0"] * (1 - params["void"]) - w * L0,
+                               rtol=16 * EPS)
+    _, _, _, _, A = st.cells(st.fresh_state(geo), lev)
+    np.testing.assert_allclose(A, geo["A_f0"], rtol=16 * EPS)
+
+
+@pytest.mark.parametrize("iso", [0.5, 1.0])
+def test_isotropic_compatibility_derivatives(iso):
+    """The bond target (1 - iso) F d0 + iso sqrt(det F) R(F) d0 (nonlinear in F) in the
+    gradient and the Hessian; rim bonds scaled by beta != 1 (dried_state)."""
+    z, lev = dried_state(s=0.6, seed=9, params=dict(GAP, iso=iso))
+    u = units(lev["n"])
+    E, g = st.energy(z, lev)
+    assert_matches_differences(g * u, lambda y: st.energy(y * u, lev, gradient=False),
+                               z / u, 1e-5, abs(E))
+    Hs = st.hessian(z, lev).toarray() * np.outer(u, u)
+    assert_matches_differences(Hs, lambda y: st.energy(y * u, lev)[1] * u, z / u, 1e-5,
+                               gradient_scale(z, lev))
+
+
+def test_isotropic_target_ignores_the_cells_flattening():
+    """With iso 1 the bond target of F = R diag(k, 1/k) sqrt(J) is sqrt(J) R d0: a cell's
+    flattening at fixed area leaves it, its rotation turns it."""
+    rng = np.random.default_rng(2)
+    d0 = rng.normal(size=(5, 2))
+    th, J, k = 0.4, 0.3, 1.8
+    R = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
+    F = np.broadcast_to(math.sqrt(J) * R @ np.diag([k, 1 / k]) @ R.T @ R, (5, 2, 2))
+    v, _ = st._bond_target(np.ascontiguousarray(F), d0, 1.0)
+    np.testing.assert_allclose(v, math.sqrt(J) * d0 @ R.T, rtol=0, atol=16 * EPS)

@@ -33,6 +33,10 @@ def arguments(q):
     q.add_argument("--out", help="results folder (default results/mfc/<date-time>)")
     q.add_argument("--resume", action="store_true", help="continue an interrupted study in --out")
     q.add_argument("--material", default="apple", help="CGMS material of the shared values")
+    q.add_argument("--temperature", type=float, default=None,
+                   help="tissue temperature, C: walls and lamella softened and turgor scaled "
+                        "as doc/drying.md's \"Temperature in the mechanics\" says (default: "
+                        "none, the material's unheated values)")
     q.add_argument("--ftol", type=positive_float, default=mfc_run.DEFAULTS["ftol"],
                    help="steady state: largest force on a wall particle, N (default %(default)g)")
     q.add_argument("--shift", type=positive_float, default=mfc_run.DEFAULTS["shift"],
@@ -84,9 +88,13 @@ def main(args):
         raise UsageError(f"--stage must be in [0, 1), got {args.stage}")
     if not args.newton >= 0:
         raise UsageError(f"--newton must be >= 0 (N; 0: off), got {args.newton}")
+    T = args.temperature
+    if T is not None and not mfc_model.HEAT["T_min"] <= T <= mfc_model.HEAT["T_max"]:
+        raise UsageError(f"--temperature must be in {mfc_model.HEAT['T_min']:g} .. "
+                         f"{mfc_model.HEAT['T_max']:g} (C, liquid cell water), got {T}")
     names = list(tissue.MICROSCALE) if args.tissues == ["all"] else args.tissues
     try:
-        p = mfc_model.parameters(args.material)
+        p = mfc_model.parameters(args.material, temperature=T)
     except (ValueError, OSError) as err:    # a material file missing or wrong: an input
         raise UsageError(str(err).strip('"')) from None
     centres = {name: _centres(name, p) for name in names}   # bad names stop before any run
