@@ -135,7 +135,7 @@ def equilibrium_perimeter(mat, s, diameter=None):
 def steady_perimeter(mat, s, diameter=None, k_T=None, k_PA=None):
     """A bead's perimeter at steady state: with P = -s Pi_f (mass balance, eqn 7) every
     bead's pair coefficient vanishes, so l* = l_d - (k_T / k_PA)(P_f + s Pi_f), whatever
-    the shape of the tissue (doc/validation.md, hard cases). ``k_T``, ``k_PA`` replace the
+    the shape of the tissue (doc/results/validation.md, hard cases). ``k_T``, ``k_PA`` replace the
     material's."""
     k_T = mat["k_T"] if k_T is None else k_T
     k_PA = mat["k_PA"] if k_PA is None else k_PA

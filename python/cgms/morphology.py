@@ -297,7 +297,7 @@ def polygon_elongation(poly):
     Beside the paper's height / width (:func:`measures`), it is the elongation that a notch
     in the outline cannot move by much: a notch changes the integrals by its own area
     times its distance squared, while it moves a centre-line extent by its whole depth
-    when the line runs through it (doc/validation.md, "Elongation from second moments")."""
+    when the line runs through it (doc/results/validation.md, "Elongation from second moments")."""
     _, _, mom = _polygon_moments(poly)
     return _axis_ratio(*mom)
 
@@ -338,7 +338,7 @@ def measures(xy, max_edge=None):
       (:func:`polygon_elongation`: sqrt of the eigenvalue ratio of its area second-moment
       tensor), rotation invariant and >= 1; normalised as ``ELpca/ELpca0``. Reported beside
       the paper's ``elongation``, which a notch of the outline on a centre line moves by the
-      notch's depth (near-square tissues: doc/validation.md).
+      notch's depth (near-square tissues: doc/results/validation.md).
     - ``outline``: the bead indices of the outline (counter-clockwise).
     """
     p = _points(xy)

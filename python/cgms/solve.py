@@ -22,7 +22,7 @@ method does not follow the transient:
 Where the potential is convex this converges quadratically (every microscale tissue,
 5 to 22 iterations). Large tissues have soft, unstable modes at their corners, along
 which Newton steps only creep; the solver then stops and says so (``stalled``,
-``converged`` false). Measurements: doc/performance.md.
+``converged`` false). Measurements: doc/results/performance.md.
 
 Serial only: the lammps instance runs in this process.
 """

@@ -25,7 +25,7 @@ LEVELS = (1.0, 0.8, 0.6, 0.4, 0.3)
 #: what is left of the fastest bead's path (its speed times the decay time of that speed)
 #: below 0.3 um. Not the fallback's default: on apple-mfc it costs 1.3x the steps and
 #: lowers A/A0 by 0.2-0.4 %, but on shear-soft materials (the paper's apple) the lattice
-#: creeps with tau ~ 0.1 s and a level takes the whole 4e6-step cap (doc/performance.md)
+#: creeps with tau ~ 0.1 s and a level takes the whole 4e6-step cap (doc/results/performance.md)
 REST = 3e-7
 #: the fallback when the quasi-static solve stops or does not converge: the dynamics at
 #: half the paper's time step (extreme settings crowd beads to 8 neighbours; dt = 5e-8 s
@@ -100,7 +100,7 @@ def relax(data, material, dryness, out, steady=None, diameters=False, dt=1e-7, p
             mat = material_file.with_overrides(material_file.read(material), overrides)
             # --max-steps bounds the iterations too: a lever for large tissues, where
             # Newton lands near the dynamics' shape in a few iterations and then creeps
-            # (doc/performance.md)
+            # (doc/results/performance.md)
             with open(out / f"newton.{name}.log", "w") as fh:
                 solver = run.solve_newton(lmp, dump=dump, max_iterations=min(60, max_steps),
                                           spacing=model.steady_spacing(mat, dryness),

@@ -367,7 +367,7 @@ void FixCGMSFluid::damping_limit_error(int i)
   const double nn = sums[i].count;
   // more neighbours than a hexagonal lattice has: the tissue is folding onto itself (a
   // second-shell bead crossed the cutoff), which a smaller time step does not cure; the
-  // paper's forces give the lattice no shear stiffness (doc/validation.md), k_S does;
+  // paper's forces give the lattice no shear stiffness (doc/results/validation.md), k_S does;
   // with k_S(s) it is the dried cells' stiffness, far below k_S, that may be too weak
   const Material &mat = pair->material();
   const double kS = mat.k_S;
@@ -385,7 +385,7 @@ void FixCGMSFluid::damping_limit_error(int i)
                "than the 6 of a hexagonal tissue: the tissue is collapsing (beads crowding "
                "past the weak LJ repulsion), and the damping is unstable at dt = {:.4g} s; a "
                "smaller time step does not cure this. The paper's forces do not resist shear; "
-               "{} prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)",
+               "{} prevent it (doc/pair_cgms.rst, doc/results/validation.md hard cases)",
                atom->tag[i], nn, update->ntimestep, update->dt,
                kS > 0.0 && mat.k_S_exponent != 0.0
                    ? fmt::format("a larger cell-shape stiffness of the dried cells, k_S(s) = "

@@ -1,7 +1,7 @@
 # CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
-"""The gap between the MFC's cells, measured (doc/shaped-results.md, "The gap between the
+"""The gap between the MFC's cells, measured (doc/results/shaped-results.md, "The gap between the
 cells"): per interior cell, its share of the centroid network (a third of each Delaunay
 triangle of the fresh centroids it is a corner of, the same triangles at every level)
 less its wall polygon's area, in units of its fresh share; and that gap over the cell's

@@ -428,7 +428,7 @@ def test_a_failed_fallback_names_both_stops_in_cli_terms(fake, capsys, monkeypat
                 "(beads crowding past the weak LJ repulsion), and the damping is unstable at "
                 "dt = 5e-08 s; a smaller time step does not cure this. The paper's forces do "
                 "not resist shear; a cell-shape stiffness (e.g. k_S 0.5 on the pair_coeff "
-                "line) may prevent it (doc/pair_cgms.rst, doc/validation.md hard cases)")
+                "line) may prevent it (doc/pair_cgms.rst, doc/results/validation.md hard cases)")
 
     def both_stop(data, material_file, dryness, out, **kwargs):
         if dryness < 0.5:

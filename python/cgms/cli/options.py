@@ -100,7 +100,7 @@ def common_arguments(q, kind, width=True):
                    default="quasistatic",
                    help="solve for the steady state directly: P = -Pi and FIRE "
                         "minimisation (default; doc/model.md) or Newton's method (fewer, "
-                        "costlier iterations: doc/performance.md), or follow the dynamics "
+                        "costlier iterations: doc/results/performance.md), or follow the dynamics "
                         "until the --residual and --speed thresholds hold (the paper's way)")
 
 

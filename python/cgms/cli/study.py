@@ -69,7 +69,7 @@ def print_table(rows):
               "--fallback none turns this off)")
     if any(not r["converged"] and r["method"] == "quasistatic" for r in rows):
         print("  The quasi-static solve (FIRE) can stall where the potential is not convex "
-              "(large dried tissues: doc/validation.md); try --method newton or dynamics.")
+              "(large dried tissues: doc/results/validation.md); try --method newton or dynamics.")
 
 
 def levels_in_range(args, mat_file):

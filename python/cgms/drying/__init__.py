@@ -118,7 +118,7 @@ class Mechanics:
     (``method="fire"``: ``minimize`` to the force tolerance ``ftol``) or by Newton's method
     (``method="newton"``, :func:`cgms.solve.newton`, at most ``newton_iterations``
     iterations per solve: FIRE diverges on the 20 273-bead tissue started from the
-    lattice, doc/validation.md), or Newton for the fresh state and FIRE warm started
+    lattice, doc/results/validation.md), or Newton for the fresh state and FIRE warm started
     after it (``method="newton+fire"``). ``first_iterations`` bounds the Newton solve of
     the fresh state (the reference of A/A0), which starts from the lattice."""
 
