@@ -14,7 +14,8 @@ import time
 
 import numpy as np
 
-from cgms import drying, morphology, transport
+from cgms import drying, morphology
+from cgms.drying import transport
 
 
 def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics=None,
