@@ -159,6 +159,18 @@ def test_area_follows_water_in_a_dried_block(s):
     assert np.all(dP < 0.1 * MAT["P_f"])
 
 
+def assert_derivatives(z, lev):
+    """Gradient against differences of the energy, Hessian against differences of the
+    gradient, in units where x and F are of order one."""
+    u = units(lev["n"])
+    E, g = st.energy(z, lev)
+    assert_matches_differences(g * u, lambda y: st.energy(y * u, lev, gradient=False),
+                               z / u, 1e-5, abs(E))
+    Hs = st.hessian(z, lev).toarray() * np.outer(u, u)
+    assert_matches_differences(Hs, lambda y: st.energy(y * u, lev)[1] * u, z / u, 1e-5,
+                               gradient_scale(z, lev))
+
+
 #: the gap law of the contour strip and the intercellular space (shaped_tensor.DEFAULTS);
 #: ``smooth`` and ``void_onset`` widened so that the jittered state below puts walls
 #: inside the C1 joins and cells inside the void's transition
@@ -182,13 +194,7 @@ def test_gap_law_derivatives(s, seed):
     z, lev = dried_state(s=s, seed=seed, params=GAP)
     band, opening = gap_kinds(z, lev)
     assert band > 0 and opening > 0, (band, opening)
-    u = units(lev["n"])
-    E, g = st.energy(z, lev)
-    assert_matches_differences(g * u, lambda y: st.energy(y * u, lev, gradient=False),
-                               z / u, 1e-5, abs(E))
-    Hs = st.hessian(z, lev).toarray() * np.outer(u, u)
-    assert_matches_differences(Hs, lambda y: st.energy(y * u, lev)[1] * u, z / u, 1e-5,
-                               gradient_scale(z, lev))
+    assert_derivatives(z, lev)
 
 
 @pytest.mark.parametrize("shape", [("rectangle", 1.25e-3, 1.5e-3), ("disc", 0.5e-3)])
@@ -216,13 +222,7 @@ def test_isotropic_compatibility_derivatives(iso):
     """The bond target (1 - iso) F d0 + iso sqrt(det F) R(F) d0 (nonlinear in F) in the
     gradient and the Hessian; rim bonds scaled by beta != 1 (dried_state)."""
     z, lev = dried_state(s=0.6, seed=9, params=dict(GAP, iso=iso))
-    u = units(lev["n"])
-    E, g = st.energy(z, lev)
-    assert_matches_differences(g * u, lambda y: st.energy(y * u, lev, gradient=False),
-                               z / u, 1e-5, abs(E))
-    Hs = st.hessian(z, lev).toarray() * np.outer(u, u)
-    assert_matches_differences(Hs, lambda y: st.energy(y * u, lev)[1] * u, z / u, 1e-5,
-                               gradient_scale(z, lev))
+    assert_derivatives(z, lev)
 
 
 def test_isotropic_target_ignores_the_cells_flattening():
