@@ -309,7 +309,7 @@ def test_lammps_stop_gives_the_whole_error_line(tmp_path, capsys):
     assert status == 1
     line = one_line(err)
     error = line[line.index("ERROR"):]
-    assert len(error) > 200 and "fix_cgms_fluid.cpp" in error, line
+    assert len(error) > 200 and "src/CGMS/fix_cgms_fluid" in error, line
     assert "at t = " in line and "does not resume" in line
     assert read_csv(out / "drying.csv")
     assert_listed_files_exist(out, line)

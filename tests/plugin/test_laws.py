@@ -30,7 +30,7 @@ import numpy as np
 import pytest
 
 HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
+ROOT = HERE.parents[1]
 sys.path.insert(0, str(ROOT / "python"))
 from cgms import material, model  # noqa: E402
 

@@ -92,18 +92,19 @@ def write_data(path, centres, p, overwrite=False):
                   p["wall_mass"], f"MFC tissue (SPH): {len(centres)} cells", overwrite)
 
 
-def fill(ring, p, s):
+def fill(ring, p, s, offset=(0.0, 0.0)):
     """SPH fluid particles filling one wall ring of any shape (a dried, wrinkled one) at
     level ``s``: the fluid lattice contracted with the fluid, spacing
     ``fluid_spacing * sqrt(s)``, on the ring's mean, kept inside the ring and at least
     ``fluid_margin`` from its polyline (the rule :func:`cgms.mfc.tissue.fluid_points`
-    applies to the fresh hexagon)."""
+    applies to the fresh hexagon). ``offset`` shifts the lattice (m; the tests measure the
+    count's spread over offsets)."""
     ring = np.asarray(ring, float)
     h = p["fluid_spacing"] * math.sqrt(s)
     centre = ring.mean(axis=0)
     m = int(np.ceil(np.abs(ring - centre).max() / h)) + 1
     g = (np.arange(-m, m) + 0.5) * h
-    pts = centre + np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+    pts = centre + np.asarray(offset) + np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
     pts = pts[tissue._inside(pts, ring, 0.0, closed=False)]
     return pts[tissue._boundary_distance(pts, ring) >= p["fluid_margin"]]
 
