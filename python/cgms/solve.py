@@ -242,13 +242,7 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
                 delta = without_rigid_motion(xy, delta)
             ok = delta is not None and np.all(np.isfinite(delta)) and rhs @ delta > 0
             if ok:
-                # what carries a bead across a neighbour's cutoff is its displacement
-                # relative to its neighbours; a tissue-wide contraction may move the
-                # edges much further in one step
-                d = delta.reshape(-1, 2)
-                move = np.abs(d[pairs[:, 0]] - d[pairs[:, 1]]).max()
-                if move > max_move:
-                    delta *= max_move / move
+                delta = _limited(delta, pairs, max_move)
                 trial = xy + delta.reshape(-1, 2)
                 e1, f1 = forces(trial)
                 if step_accepted(energy, f, e1, f1, delta, rounding=1e-11):
@@ -268,6 +262,16 @@ def newton(forces, xy, cutoff, ftol=1e-13, max_iterations=60, step=None, max_mov
     return xy, info
 
 
+def _limited(delta, pairs, max_move):
+    """``delta`` scaled so that no neighbour pair's relative displacement exceeds
+    ``max_move``: what carries a bead across a neighbour's cutoff is its displacement
+    relative to its neighbours, and a tissue-wide contraction may move the edges much
+    further in one step."""
+    d = delta.reshape(-1, 2)
+    move = np.abs(d[pairs[:, 0]] - d[pairs[:, 1]]).max()
+    return delta * (max_move / move) if move > max_move else delta
+
+
 def _kept_step(forces, xy, energy, f, lu, pairs, max_move):
     """The step of a kept factorisation from ``xy`` (limited as :func:`newton` limits
     its steps), as (xy, energy, forces) if it is taken, else None."""
@@ -275,10 +279,7 @@ def _kept_step(forces, xy, energy, f, lu, pairs, max_move):
     delta = without_rigid_motion(xy, lu.solve(rhs))
     if not (np.all(np.isfinite(delta)) and rhs @ delta > 0):
         return None
-    d = delta.reshape(-1, 2)
-    move = np.abs(d[pairs[:, 0]] - d[pairs[:, 1]]).max()
-    if move > max_move:
-        delta *= max_move / move
+    delta = _limited(delta, pairs, max_move)
     trial = xy + delta.reshape(-1, 2)
     e1, f1 = forces(trial)
     if not step_accepted(energy, f, e1, f1, delta, rounding=1e-11):
