@@ -27,6 +27,18 @@ def default_folder(kind):
     return Path("results") / kind / datetime.now().strftime("%Y%m%d-%H%M%S")
 
 
+def summary_path(folder):
+    """A new summary table in ``folder``, named by the time of day; a run that ends within
+    the same second as an earlier one (a resume of finished levels) gets the next free
+    number, so no table of an earlier run is overwritten."""
+    stem = f"summary-{datetime.now():%H%M%S}"
+    path, n = Path(folder) / f"{stem}.csv", 1
+    while path.exists():
+        n += 1
+        path = Path(folder) / f"{stem}-{n}.csv"
+    return path
+
+
 def _lock(folder):
     """An exclusive lock on ``folder`` held while the returned file stays open."""
     fh = open(folder / LOCK, "a")

@@ -3,6 +3,8 @@
 # see the LICENSE file in the top-level directory.
 """Steady-state sweeps: results, resuming, normalisation, target moisture, no overwriting."""
 
+from datetime import datetime
+
 import numpy as np
 import pytest
 
@@ -60,6 +62,22 @@ def test_results_folder_is_never_reused(tmp_path):
 
 
 @pytest.mark.lammps
+def test_summary_tables_of_runs_within_one_second_keep_apart(tmp_path, monkeypatch):
+    # a resume of finished levels ends within the second of the run before it: the second
+    # table takes a new name instead of failing on (or overwriting) the first
+    class Noon:
+        @staticmethod
+        def now():
+            return datetime(2026, 1, 1, 12, 0, 0)
+    monkeypatch.setattr(folders, "datetime", Noon)
+    names = []
+    for _ in range(3):
+        path = folders.summary_path(tmp_path)
+        study.write_csv([{"s": 1.0}], path)
+        names.append(path.name)
+    assert names == ["summary-120000.csv", "summary-120000-2.csv", "summary-120000-3.csv"]
+
+
 def test_quasistatic_state_is_a_steady_state_of_the_dynamics(small_tissue, tmp_path):
     """doc/model.md: at steady state P = -Pi, so the geometry solves the force balance with
     the pressures fixed. The FIRE solution must be at rest under the full dynamics (mass

@@ -5,11 +5,10 @@
 level and write the reference centroids (doc/mfc.md)."""
 
 import sys
-from datetime import datetime
 from pathlib import Path
 
 from ..mfc import model as mfc_model, run as mfc_run, study as mfc_study
-from .. import tissue
+from .. import folders, tissue
 
 SINGLE = "single"
 
@@ -81,7 +80,6 @@ def folder_name(name):
 
 def main(args):
     """Run the study; returns an exit status."""
-    from .. import folders
     from .options import UsageError
     levels = args.dryness
     if not 0 <= args.stage < 1:
@@ -122,7 +120,7 @@ def run(out, names, centres, p, levels, args):
         for r in results:
             r["tissue"] = name
         rows += results
-        mfc_study.write_table(results, folder / f"summary-{datetime.now():%H%M%S}.csv")
+        mfc_study.write_table(results, folders.summary_path(folder))
     return rows
 
 

@@ -5,7 +5,6 @@
 moisture levels; the table of A/A0, P/P0, EL/EL0."""
 
 import sys
-from datetime import datetime
 
 from .. import folders, pictures, study, tissue
 from .options import (UsageError, check_fallback, common_arguments, fallback_argument,
@@ -98,10 +97,7 @@ def fallback_files(out, rows):
 
 
 def write_summary(rows, out):
-    path = out / f"summary-{datetime.now():%H%M%S}.csv"
-    while path.exists():   # a resume within the same second
-        path = path.with_name(path.stem + "x.csv")
-    study.write_csv(rows, path)
+    study.write_csv(rows, folders.summary_path(out))
 
 
 def main_job(args):
