@@ -24,7 +24,14 @@ class FolderError(ValueError):
 
 
 def default_folder(kind):
-    return Path("results") / kind / datetime.now().strftime("%Y%m%d-%H%M%S")
+    """``results/<kind>/<date-time>``, numbered on when a command started in the same
+    second already took it."""
+    stem = Path("results") / kind / datetime.now().strftime("%Y%m%d-%H%M%S")
+    path, n = stem, 1
+    while path.exists():
+        n += 1
+        path = stem.with_name(f"{stem.name}-{n}")
+    return path
 
 
 def summary_path(folder):
