@@ -5,7 +5,7 @@
 factor beta(s), the virtual-cell geometry, the Tait law, the mass transfer, the pair
 coefficient and the quasi-static energy, the steady state of a bead (perimeter, spacing,
 density, moisture) and the time-step limits of the damping and the cell-shape stiffness.
-The plugin's twin is ``src/CGMS/cgms_laws.h``; ``tests/test_laws.py`` holds the two equal.
+The plugin's twin is ``src/CGMS/cgms_laws.h``; ``tests/plugin/test_laws.py`` holds the two equal.
 
 Every function takes a material dict (:func:`cgms.material.read`) and plain numbers or
 NumPy arrays. ``tests/reference.py`` repeats the force and update formulas on purpose, as

@@ -15,7 +15,7 @@ One JSON per run in OUT (``mfc[-<tissue>]-<block>-s<s>.json``, ``cgms-<material>
 a run whose JSON exists is read back, not run again, so an interrupted study resumes.
 Prints Markdown tables: per block and level the MFC's moduli and, per material, CGMS's
 modulus without k_S, its mean slope in k_S, and the matching k_S (clamped and interior
-measures). ``--effects``: the hard cases of tests/test_hard_cases.py (a sharp moisture step,
+measures). ``--effects``: the hard cases of tests/plugin/test_hard_cases.py (a sharp moisture step,
 cells of cv = 0.05) per material and k_S, instead.
 """
 
@@ -80,7 +80,7 @@ def matching_k_S(ks, values, target):
     return k, float((values[-1] - values[0]) / (ks[-1] - ks[0])), float(values[0])
 
 
-#: the hard cases of tests/test_hard_cases.py that the paper's forces collapse on: the
+#: the hard cases of tests/plugin/test_hard_cases.py that the paper's forces collapse on: the
 #: symmetric 86-bead tissue with a sharp moisture step (wet left half | dry right half), and
 #: with cell diameters of cv = 0.05 (seed 1) at one level; damped dynamics to the steady
 #: state (residual and speed below 1e-3, checked every 1000 steps), 0.03 s at most
@@ -127,7 +127,7 @@ def hard_case(folder, material_path, k_S, case, dry):
          else np.full(len(xy), mat["diameter"]))
     data = folder / "tissue.data"
     positions.write_data(data, xy, 5 * mat["x_ref"], diameters=d, overwrite=True)
-    # 0.9 of the smallest cell's time-step limits (damping as in tests/test_hard_cases.py,
+    # 0.9 of the smallest cell's time-step limits (damping as in tests/plugin/test_hard_cases.py,
     # k_S, and the turgor force at 1.1 x the dried reference density (the dried cells start
     # compressed on the fresh lattice): apple-mfc's
     # k_T is 300 x apple's), at most the paper's 1e-7 s

@@ -299,3 +299,20 @@ def test_inline_commands_parse(doc):
             cli.parser().parse_args(words)
         except SystemExit as stop:
             pytest.fail(f"{doc}: 'python3 -m cgms {command}' does not parse ({stop.code})")
+
+
+REPO_PATH = re.compile(r"\b(?:tests|python/cgms|src/CGMS|examples|studies|bench|tools|reference|"
+                       r"potentials)/[A-Za-z0-9_./-]*[A-Za-z0-9_]\.(?:py|cpp|h|md|rst|cgms|"
+                       r"params|sh|csv|json|txt)\b")
+
+
+def test_paths_the_docs_name_exist():
+    # files move (tests into subject folders, research scripts into studies/): a page that
+    # names a file must name one a reader can open
+    pages = [ROOT / "README.md", *sorted((ROOT / "doc").rglob("*.md")),
+             *sorted((ROOT / "doc").glob("*.rst")), *sorted((ROOT / "examples").rglob("*.md")),
+             *sorted((ROOT / "studies").rglob("*.md")), ROOT / "tests" / "README.md"]
+    missing = sorted({f"{page.relative_to(ROOT)}: {path}" for page in pages
+                      for path in REPO_PATH.findall(page.read_text())
+                      if not (ROOT / path).exists()})
+    assert not missing, "\n".join(missing)
