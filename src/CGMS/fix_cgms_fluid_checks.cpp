@@ -122,7 +122,7 @@ void FixCGMSFluid::warn_if_dried(bigint fresh)
   const NeighbourSums *sums = neighbour_sums(lmp);
   if (!pair->pair_coefficient_needed() && !transfer) return;    // no geometry computed
   const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   // interior beads (six neighbours or more): their side against the reference side
   double local[2] = {0.0, 0.0}, global[2];
   for (int i = 0; i < atom->nlocal; i++) {
@@ -161,7 +161,7 @@ void FixCGMSFluid::emptied_error(int emptied)
   error->one(FLERR,
              "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
              "unstable; reduce the time step (now {:.6g} s)",
-             atom->tag[emptied], bead_array(lmp)[emptied][MF], update->ntimestep, update->dt);
+             atom->tag[emptied], bead_state(lmp)[emptied][MF], update->ntimestep, update->dt);
 }
 
 /* ----------------------------------------------------------------------
@@ -172,7 +172,7 @@ void FixCGMSFluid::emptied_error(int emptied)
 void FixCGMSFluid::stop_if_unstable(const Trouble &t)
 {
   const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   const double *rmass = atom->rmass;
   const NeighbourSums *sums = neighbour_sums(lmp);
   const double dt = update->dt;
@@ -306,7 +306,7 @@ void FixCGMSFluid::isolated_error(int i)
 {
   const Material &mat = pair->material();
   double **x = atom->x;
-  const double s = bead_array(lmp)[i][DRYNESS];
+  const double s = bead_state(lmp)[i][DRYNESS];
   double nearest = HUGE_VAL;
   for (int ii = 0; ii < list->inum; ii++) {
     const int a = list->ilist[ii];
