@@ -193,16 +193,6 @@ void AtomVecCGMS::process_args(int narg, char **arg)
   atom->atom_style = nullptr;
 }
 
-/* ---------------------------------------------------------------------- */
-
-void AtomVecCGMS::init()
-{
-  AtomVec::init();
-  if (atom->avec != this)
-    error->all(FLERR, "Atom style cgms cannot be used as a sub-style of atom_style hybrid");
-}
-
-
 /* ----------------------------------------------------------------------
    a new bead has no fluid state yet: fix cgms/fluid fills it from the
    material parameters and its dryness at the next setup (MF0 <= 0 marks it).

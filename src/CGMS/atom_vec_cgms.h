@@ -41,7 +41,6 @@ class AtomVecCGMS : public AtomVec {
   ~AtomVecCGMS() override;
 
   void process_args(int, char **) override;
-  void init() override;
   void grow_pointers() override;
   void copy_bonus(int, int, int) override;
   int pack_exchange_bonus(int, double *) override;

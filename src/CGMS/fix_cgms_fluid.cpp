@@ -326,6 +326,7 @@ void FixCGMSFluid::setup_pre_force(int)
   setup_loaded = load_data_file_state();
   apply_dryness();
   setup_fresh = initialise_beads();
+  check_stored_state();
   beads_added = 0;
   natoms_known = atom->natoms;
 }
@@ -546,9 +547,12 @@ bigint FixCGMSFluid::load_data_file_state()
     double **data = atom->darray[index];
     const BeadState cg = bead_state(lmp);
     for (int i = 0; i < atom->nlocal; i++) {
-      if (cg[i][MF0] > 0.0) continue;
       bool line = false;    // no line leaves the row at 0 (NaN != 0 counts as a line)
       for (int k = 0; k < NDATA; k++) line = line || data[i][k] != 0.0;
+      // a line is taken over once, by a bead that awaits it: then the bead's own state
+      // rules. One whose state was changed meanwhile (set d_mf ...) would lose that.
+      if (line) check_awaits_line(i);
+      if (cg[i][MF0] > 0.0) continue;
       if (!line) {
         if (cg[i][MF0] == AWAITS_DATA_LINE)
           error->one(FLERR,
