@@ -9,8 +9,9 @@ uses; copies, deletions, creations, sorting and migration carry the vectors."""
 
 import numpy as np
 import pytest
+from cgms import model
 
-from cgmstest import (MAT, header, make_tissue, new_lammps, physics, read_dump, run_lmp,
+from cgmstest import (MAT, PLUGIN, ROOT, header, make_tissue, new_lammps, physics, read_dump, run_lmp,
                       working_directory)
 
 pytestmark = pytest.mark.lammps
@@ -97,6 +98,30 @@ def test_set_changes_the_state_the_next_step_uses(folder):
     assert by_id(lmp, "d_mf")[4] == pytest.approx(new + 1e-7 * dmdt[4], rel=2.3e-16)
     # the other beads kept theirs
     np.testing.assert_array_equal(mf[:4], before[:4])
+    lmp.close()
+
+
+def test_set_dryness_counts_without_the_dryness_keyword(folder):
+    """Without its dryness keyword fix cgms/fluid keeps the dryness the beads hold: a value
+    set is the one the pressure reference and the equilibrium perimeter use."""
+    lmp = new_lammps()
+    with working_directory(folder):
+        for line in header().splitlines() + physics().replace(" dryness v_s", "").splitlines():
+            lmp.command(line)
+    lmp.command("compute cg all cgms/atom ldeq l0p")
+    lmp.command("run 2")
+    ldeq_fresh = by_id(lmp, "d_l0p")[3] * 1.0    # l_d = l0' at s = 1
+    lmp.command("set atom 4 d_dryness 0.9")
+    lmp.command("run 0")
+    dryness = by_id(lmp, "d_dryness")
+    assert dryness[3] == 0.9 and np.all(np.delete(dryness, 3) == 1.0)
+    ids = lmp.numpy.extract_atom("id")
+    ldeq = np.asarray(lmp.numpy.extract_compute("cg", 1, 2))[np.argsort(ids)][:, 0]
+    # eqn (9) at the dryness set (cgms.model, the Python twin of cgms_laws.h); one
+    # product, two roundings of the factor's evaluation order at most
+    assert ldeq[3] == pytest.approx(ldeq_fresh * model.perimeter_contraction(MAT, 0.9),
+                                    rel=1e-15)
+    assert ldeq[3] < ldeq_fresh
     lmp.close()
 
 
@@ -194,3 +219,18 @@ def test_a_custom_property_of_the_same_name_is_refused():
     with pytest.raises(Exception, match=r"already exists"):
         lmp.command("fix p all property/atom d_l0p")
     lmp.close()
+
+
+def test_restart_of_the_state_row_build_reads_unchanged(tmp_path):
+    """A restart file of the build that kept the state in one per-bead array
+    (tests/data/README.md): the record holds the columns after the mass in the same order,
+    so it reads bit for bit into the vectors."""
+    data = ROOT / "tests" / "data"
+    (tmp_path / "row8.restart").write_bytes((data / "row8.restart").read_bytes())
+    run_lmp(tmp_path, f"plugin load {PLUGIN}\nread_restart row8.restart\n"
+            "write_dump all custom new.dump id x y vx vy " + " ".join(f"d_{n}" for n in STATE)
+            + " modify format float %.17g sort id\n")
+    old, new = read_dump(data / "row8.dump"), read_dump(tmp_path / "new.dump")
+    for k, name in enumerate(["id", "x", "y", "vx", "vy"] + STATE):
+        column = name if k < 5 else f"c_p[{k - 4}]"
+        np.testing.assert_array_equal(new[name if k < 5 else f"d_{name}"], old[column], name)
