@@ -9,9 +9,11 @@
     state = fields.bead_state(lmp)        # after a run (or 'run 0')
     state["pressure"], state["mf"]        # numpy arrays ordered by atom id
 
-The names are those of ``atom_style cgms`` (doc/atom_style_cgms.rst), which
-``compute property/atom`` accepts as keywords and which fix cgms/fluid's per-atom
-array holds in the same order (``f_ID[1]`` ... ``f_ID[14]``).
+The names are those of ``compute cgms/atom`` (doc/compute_cgms_atom.rst), in the
+order of fix cgms/fluid's per-atom array (``f_ID[1]`` ... ``f_ID[14]``). The stored
+ones (``dryness mf ms mf0 l0p rho area dmdt``) are also LAMMPS custom per-atom
+vectors: ``lmp.numpy.extract_atom("d_mf")`` gives this rank's beads without a
+gather, and ``set atom * d_mf ...`` changes them (doc/atom_style_cgms.rst).
 """
 
 import numpy as np
@@ -41,7 +43,7 @@ def bead_state(lmp, names=FIELDS):
     x = np.array(lmp.gather_concat("x", 1, 3)).reshape(natoms, 3)[order]
     state = {"id": ids[order], "x": x[:, 0].copy(), "y": x[:, 1].copy()}
     if names:
-        lmp.command(f"compute {_COMPUTE} all property/atom {' '.join(names)}")
+        lmp.command(f"compute {_COMPUTE} all cgms/atom {' '.join(names)}")
         try:
             values = np.array(lmp.gather_concat(f"c_{_COMPUTE}", 1, len(names)))
         finally:

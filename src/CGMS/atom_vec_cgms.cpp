@@ -11,6 +11,7 @@
 #include "cgms_store.h"
 #include "error.h"
 #include "input.h"
+#include "memory.h"
 #include "modify.h"
 
 #include <cmath>
@@ -19,46 +20,126 @@
 
 using namespace LAMMPS_NS;
 
-static constexpr char FIELD[] = "cgms";
 static constexpr char SUMS_FIELD[] = "cgms_sums";
 
 /* ---------------------------------------------------------------------- */
 
 AtomVecCGMS::AtomVecCGMS(LAMMPS *lmp) :
-    AtomVec(lmp), rmass(nullptr), cgms(nullptr), scanned_natoms(-1), scanned_awaits(false)
+    AtomVec(lmp), rmass(nullptr), scanned_natoms(-1), scanned_awaits(false)
 {
   CGMS::dropped_columns_note(lmp).clear();
   molecular = Atom::ATOMIC;
   mass_type = PER_ATOM;
   atom->rmass_flag = 1;
 
-  // register the per-bead array once per Atom instance; read_restart and a
-  // second atom_style command construct this class again for the same Atom
-  bool registered = false, sums_registered = false;
-  for (const auto &item : atom->peratom) {
-    if (item.name == FIELD) registered = true;
-    if (item.name == SUMS_FIELD) sums_registered = true;
+  // the state columns are LAMMPS custom vectors (d_mf, ...), so that set, dump custom,
+  // compute property/atom, variables and extract_atom see them by name. Atom grows,
+  // copies and sends only its own fields and those a fix property/atom owns: this
+  // style carries the columns through its bonus hooks, which AtomVec calls wherever it
+  // carries a bead (grow, copy, exchange, restart). Nothing goes to the ghosts: what
+  // the loops read for ghosts, the dryness (when it is not uniform, fix cgms/fluid)
+  // and the pair coefficient (pair_style cgms), is sent when it changes.
+  int *index = CGMS::state_indices(lmp);
+  for (int k = 0; k < CGMS::NSTATE; k++) index[k] = -1;    // none, until all are there
+  for (int k = 0; k < CGMS::NSTATE; k++) {
+    int flag, cols;
+    if (atom->find_custom(CGMS::state_name(k), flag, cols) >= 0)
+      error->all(FLERR,
+                 "Atom style cgms: a custom per-atom property {} exists already (fix "
+                 "property/atom?); atom_style cgms defines d_{} for its bead state: remove "
+                 "the other one or give it another name",
+                 CGMS::state_name(k), CGMS::state_name(k));
+    index[k] = atom->add_custom(CGMS::state_name(k), 1, 0, 0);
   }
-  if (!registered) atom->add_peratom(FIELD, &CGMS::bead_array(lmp), Atom::DOUBLE, CGMS::NSTATE);
+  bonus_flag = 1;
+
+  // register the neighbour sums once per Atom instance; read_restart and a second
+  // atom_style command construct this class again for the same Atom
+  bool sums_registered = false;
+  for (const auto &item : atom->peratom)
+    if (item.name == SUMS_FIELD) sums_registered = true;
   if (!sums_registered)
     atom->add_peratom(SUMS_FIELD, &CGMS::sums_array(lmp), Atom::DOUBLE, CGMS::NSUMS);
 
-  // the row (the bead's state, one cache line) travels with a bead that changes
-  // rank, and so do the neighbour sums of the last geometry pass (not in restart
-  // files: every setup computes them). Ghosts get none of it here: what is read
-  // for ghosts, the dryness (when it is not uniform, fix cgms/fluid) and the pair
-  // coefficient (pair_style cgms), is sent when it changes (forward communication).
-  fields_grow = {"rmass", FIELD, SUMS_FIELD};
-  fields_copy = {"rmass", FIELD, SUMS_FIELD};
+  // the neighbour sums of the last geometry pass travel with a bead that changes rank
+  // (not in restart files: every setup computes them)
+  fields_grow = {"rmass", SUMS_FIELD};
+  fields_copy = {"rmass", SUMS_FIELD};
   fields_border = {"rmass"};
   fields_border_vel = {"rmass"};
-  fields_exchange = {"rmass", FIELD, SUMS_FIELD};
-  fields_restart = {"rmass", FIELD};
-  fields_create = {"rmass", FIELD, SUMS_FIELD};
+  fields_exchange = {"rmass", SUMS_FIELD};
+  fields_restart = {"rmass"};
+  fields_create = {"rmass", SUMS_FIELD};
   fields_data_atom = {"id", "type", "x"};
   fields_data_vel = {"id", "v"};
 
   setup_fields();
+}
+
+/* ----------------------------------------------------------------------
+   the state columns go with this style: Atom::create_avec deletes it before
+   it makes the next one, and ~Atom before it frees the custom vectors
+------------------------------------------------------------------------- */
+
+AtomVecCGMS::~AtomVecCGMS()
+{
+  int *index = CGMS::state_indices(lmp);
+  for (int k = 0; k < CGMS::NSTATE; k++) {
+    if (index[k] >= 0) atom->remove_custom(index[k], 1, 0);
+    index[k] = -1;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the state columns, carried where AtomVec carries a bead's own fields
+------------------------------------------------------------------------- */
+
+void AtomVecCGMS::grow_pointers()
+{
+  rmass = atom->rmass;
+  const int *index = CGMS::state_indices(lmp);
+  for (int k = 0; k < CGMS::NSTATE; k++)
+    memory->grow(atom->dvector[index[k]], nmax, "atom:dvector");
+  state = CGMS::bead_state(lmp);
+}
+
+void AtomVecCGMS::copy_bonus(int i, int j, int)
+{
+  for (int k = 0; k < CGMS::NSTATE; k++) state.col[k][j] = state.col[k][i];
+}
+
+int AtomVecCGMS::pack_exchange_bonus(int i, double *buf)
+{
+  for (int k = 0; k < CGMS::NSTATE; k++) buf[k] = state.col[k][i];
+  return CGMS::NSTATE;
+}
+
+int AtomVecCGMS::unpack_exchange_bonus(int ilocal, double *buf)
+{
+  for (int k = 0; k < CGMS::NSTATE; k++) state.col[k][ilocal] = buf[k];
+  return CGMS::NSTATE;
+}
+
+// a restart record holds the columns right after rmass, in column order: the
+// layout of the per-bead row of earlier builds, whose restart files read the same
+int AtomVecCGMS::size_restart_bonus()
+{
+  return CGMS::NSTATE * atom->nlocal;
+}
+
+int AtomVecCGMS::pack_restart_bonus(int i, double *buf)
+{
+  return pack_exchange_bonus(i, buf);
+}
+
+int AtomVecCGMS::unpack_restart_bonus(int ilocal, double *buf)
+{
+  return unpack_exchange_bonus(ilocal, buf);
+}
+
+double AtomVecCGMS::memory_usage_bonus()
+{
+  return static_cast<double>(CGMS::NSTATE) * nmax * sizeof(double);
 }
 
 /* ----------------------------------------------------------------------
@@ -92,6 +173,9 @@ int AtomVecCGMS::unpack_restart(double *buf)
 
 void AtomVecCGMS::process_args(int narg, char **arg)
 {
+  // atom_style hybrid would carry the state columns without the bonus hooks' sizes
+  if (atom->avec != this)
+    error->all(FLERR, "Atom style cgms cannot be used as a sub-style of atom_style hybrid");
   AtomVec::process_args(narg, arg);
   if (modify->get_fix_by_id(CGMS::DATA_FIX)) return;    // atom_style given again
 
@@ -110,23 +194,6 @@ void AtomVecCGMS::process_args(int narg, char **arg)
   atom->atom_style = nullptr;
 }
 
-/* ---------------------------------------------------------------------- */
-
-void AtomVecCGMS::init()
-{
-  AtomVec::init();
-  if (atom->avec != this)
-    error->all(FLERR, "Atom style cgms cannot be used as a sub-style of atom_style hybrid");
-}
-
-/* ---------------------------------------------------------------------- */
-
-void AtomVecCGMS::grow_pointers()
-{
-  rmass = atom->rmass;
-  cgms = CGMS::bead_array(lmp);
-}
-
 /* ----------------------------------------------------------------------
    a new bead has no fluid state yet: fix cgms/fluid fills it from the
    material parameters and its dryness at the next setup (MF0 <= 0 marks it).
@@ -138,8 +205,8 @@ void AtomVecCGMS::grow_pointers()
 void AtomVecCGMS::create_atom_post(int ilocal)
 {
   rmass[ilocal] = 1.0;
-  for (int k = 0; k < CGMS::NSTATE; k++) cgms[ilocal][k] = 0.0;
-  cgms[ilocal][CGMS::MF0] = CGMS::NO_STATE;
+  for (int k = 0; k < CGMS::NSTATE; k++) state[ilocal][k] = 0.0;
+  state[ilocal][CGMS::MF0] = CGMS::NO_STATE;
   for (int k = 0; k < CGMS::NSUMS; k++) CGMS::sums_array(lmp)[ilocal][k] = 0.0;
   clear_custom_rows(ilocal);
 }
@@ -152,7 +219,7 @@ void AtomVecCGMS::create_atom_post(int ilocal)
 void AtomVecCGMS::data_atom_post(int ilocal)
 {
   create_atom_post(ilocal);
-  if (data_file_brings_state()) cgms[ilocal][CGMS::MF0] = CGMS::AWAITS_DATA_LINE;
+  if (data_file_brings_state()) state[ilocal][CGMS::MF0] = CGMS::AWAITS_DATA_LINE;
 }
 
 /* ----------------------------------------------------------------------
@@ -362,7 +429,7 @@ void AtomVecCGMS::pack_property_atom(int index, double *buf, int nvalues, int gr
   }
   int n = 0;
   for (int i = 0; i < nlocal; i++) {
-    buf[n] = (mask[i] & groupbit) && column >= 0 ? cgms[i][column] : 0.0;
+    buf[n] = (mask[i] & groupbit) && column >= 0 ? state[i][column] : 0.0;
     n += nvalues;
   }
 }

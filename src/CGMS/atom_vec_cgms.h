@@ -9,6 +9,7 @@
 #define LMP_ATOM_VEC_CGMS_H
 
 #include "atom_vec.h"
+#include "cgms_store.h"
 
 #include <string>
 #include <vector>
@@ -29,17 +30,25 @@ namespace CGMS {
   std::string data_row_problem(const double *row);
 }    // namespace CGMS
 
-// One bead per plant cell: per-atom mass plus the per-bead array "cgms", the
-// bead's state (dryness, fluid and solid mass, fresh state, density, area,
-// mass rate: CGMS::State); the outputs fix cgms/fluid derives from it are
-// named for compute property/atom here (CGMS::Output).
+// One bead per plant cell: per-atom mass plus the bead's state (dryness, fluid
+// and solid mass, fresh state, density, area, mass rate: CGMS::State), one
+// custom per-atom vector d_NAME per column, which this style creates and
+// carries; the outputs pair_style cgms derives from it are named for
+// compute property/atom and dump custom here (CGMS::Output).
 class AtomVecCGMS : public AtomVec {
  public:
   AtomVecCGMS(class LAMMPS *);
+  ~AtomVecCGMS() override;
 
   void process_args(int, char **) override;
-  void init() override;
   void grow_pointers() override;
+  void copy_bonus(int, int, int) override;
+  int pack_exchange_bonus(int, double *) override;
+  int unpack_exchange_bonus(int, double *) override;
+  int size_restart_bonus() override;
+  int pack_restart_bonus(int, double *) override;
+  int unpack_restart_bonus(int, double *) override;
+  double memory_usage_bonus() override;
   void create_atom_post(int) override;
   int unpack_restart(double *) override;
   void data_atom_post(int) override;
@@ -49,7 +58,7 @@ class AtomVecCGMS : public AtomVec {
 
  private:
   double *rmass;
-  double **cgms;
+  CGMS::BeadState state;
 
   // the read_data command whose data file was last looked at, and what it held
   std::vector<std::string> scanned_args;

@@ -23,16 +23,34 @@ const char *const CGMS::column_names[CGMS::NOUTPUTS] = {
     "cgmscoef", "dryness", "nneigh",   "side", "mf",    "ms",   "mf0",
     "l0p",      "rho",     "pressure", "area", "perim", "ldeq", "dmdt"};
 
+/* ---------------------------------------------------------------------- */
+
+int *CGMS::state_indices(LAMMPS *lmp)
+{
+  struct Indices {
+    int index[NSTATE];
+    Indices()
+    {
+      for (int &k : index) k = -1;
+    }
+  };
+  static std::map<LAMMPS *, Indices> indices;
+  return indices[lmp].index;
+}
+
+CGMS::BeadState CGMS::bead_state(LAMMPS *lmp)
+{
+  const int *index = state_indices(lmp);
+  BeadState state;
+  for (int k = 0; k < NSTATE; k++)
+    state.col[k] = index[k] >= 0 ? lmp->atom->dvector[index[k]] : nullptr;
+  return state;
+}
+
 /* ----------------------------------------------------------------------
    std::map nodes never move, so the address handed to Atom::add_peratom()
    stays valid for the life of the process
 ------------------------------------------------------------------------- */
-
-double **&CGMS::bead_array(LAMMPS *lmp)
-{
-  static std::map<LAMMPS *, double **> arrays;
-  return arrays[lmp];
-}
 
 double **&CGMS::sums_array(LAMMPS *lmp)
 {

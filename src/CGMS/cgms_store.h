@@ -19,10 +19,9 @@ class LAMMPS;
 
 namespace CGMS {
 
-  // Columns of the per-bead array "cgms" carried by atom_style cgms: the state
-  // of a bead, what must survive migration, restarts and data files. Eight
-  // doubles, one cache line: the fluid pass reads and writes each row once per
-  // step, and nothing else lives in it (the outputs below are derived from it).
+  // Columns of a bead's state carried by atom_style cgms: what must survive
+  // migration, restarts and data files. The fluid pass reads and writes each
+  // once per step; the outputs below are derived from them.
   enum State {
     DRYNESS = 0,    // prescribed dryness s = (X/X0)_i
     MF,             // fluid-phase mass m_f (kg)
@@ -86,6 +85,10 @@ namespace CGMS {
   // the output column of each state column
   constexpr int STATE_OUTPUT[NSTATE] = {OUT_DRYNESS, OUT_MF,  OUT_MS,   OUT_MF0,
                                         OUT_L0P,     OUT_RHO, OUT_AREA, OUT_DMDT};
+  inline const char *state_name(int k)
+  {
+    return column_names[STATE_OUTPUT[k]];
+  }
 
   // The fluid state a data file carries (write_data writes it as the section
   // DATA_SECTION through fix cgms/fluid; read_data reads it into the per-atom
@@ -103,14 +106,36 @@ namespace CGMS {
   // cgms clears it, as the data row, for every new bead
   constexpr char TRANSPORT_PROPERTY[] = "cgms_transport";
 
-  // The pointer to the per-bead array, one per LAMMPS instance. Atom keeps
-  // its address (Atom::add_peratom) and grows, copies and frees the array
-  // through it, also after the AtomVec that registered it is gone (a second
-  // atom_style command, read_restart, atom_style hybrid deleting its
-  // sub-styles): so it cannot be a member of AtomVecCGMS, and LAMMPS's own
-  // styles register members of Atom, which a plugin cannot add. A map keyed
-  // by the instance keeps it alive as long as the process.
-  double **&bead_array(LAMMPS *lmp);
+  // The state columns are LAMMPS custom per-atom vectors (Atom::add_custom), one
+  // per column, named state_name(k) (the output's name): LAMMPS's own commands
+  // see them as d_NAME (dump custom, compute property/atom, set, variables, the
+  // library's extract_atom). atom_style cgms creates them and carries them with
+  // the beads (growth, copies, migration, restart files), as its own fields.
+
+  // one bead's state columns: row[k] is column k (CGMS::State) of bead i
+  class BeadRow {
+   public:
+    BeadRow(double *const *columns, int i) : col(columns), i(i) {}
+    double &operator[](int k) const { return col[k][i]; }
+
+   private:
+    double *const *col;
+    int i;
+  };
+
+  // the state columns of every local and ghost bead (ghosts hold only what is
+  // forwarded to them), read as rows: state[i][k]. Valid until the atom arrays
+  // grow; all columns nullptr while atom_style cgms is not defined.
+  class BeadState {
+   public:
+    double *col[NSTATE];
+    BeadRow operator[](int i) const { return {col, i}; }
+    explicit operator bool() const { return col[0] != nullptr; }
+  };
+  BeadState bead_state(LAMMPS *lmp);
+  // the indices of the state columns in Atom::dvector, one per LAMMPS instance
+  // (-1: not defined); atom_style cgms sets them
+  int *state_indices(LAMMPS *lmp);
 
   // The comment write_data leaves where fix cgms/transport's moisture columns
   // would be (no data-file line can hold a column); read_data's scan of the

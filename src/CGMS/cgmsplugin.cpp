@@ -6,7 +6,7 @@
 
    Registers every CGMS style. `plugin load cgmsplugin.so` (or a folder in
    LAMMPS_PLUGIN_PATH) makes atom_style cgms, pair_style cgms and
-   fix cgms/fluid and fix cgms/transport available.
+   fix cgms/fluid, fix cgms/transport and compute cgms/atom available.
 ------------------------------------------------------------------------- */
 
 #include "lammpsplugin.h"
@@ -14,6 +14,7 @@
 #include "atom.h"
 #include "atom_vec_cgms.h"
 #include "comm.h"
+#include "compute_cgms_atom.h"
 #include "error.h"
 #include "fix_cgms_fluid.h"
 #include "fix_cgms_transport.h"
@@ -50,6 +51,11 @@ static Fix *fix_cgms_transport_creator(LAMMPS *lmp, int argc, char **argv)
 static Fix *fix_mfc_pressure_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixMFCPressure(lmp, argc, argv);
+}
+
+static Compute *compute_cgms_atom_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new ComputeCGMSAtom(lmp, argc, argv);
 }
 
 static AtomVec *atom_vec_cgms_creator(LAMMPS *lmp)
@@ -102,6 +108,12 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
   plugin.name = "mfc/pressure";
   plugin.info = "MFC fix: one equation-of-state pressure per cell from the area its wall encloses";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_mfc_pressure_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.style = "compute";
+  plugin.name = "cgms/atom";
+  plugin.info = "CGMS compute: per-bead state and derived outputs (pressure, side, ...) by name";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &compute_cgms_atom_creator;
   (*register_plugin)(&plugin, lmp);
 
   // LAMMPS's plugin loader has no atom styles; the creator map is public,

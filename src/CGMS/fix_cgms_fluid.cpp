@@ -326,6 +326,7 @@ void FixCGMSFluid::setup_pre_force(int)
   setup_loaded = load_data_file_state();
   apply_dryness();
   setup_fresh = initialise_beads();
+  check_stored_state();
   beads_added = 0;
   natoms_known = atom->natoms;
 }
@@ -397,12 +398,12 @@ void FixCGMSFluid::min_post_force(int vflag)
 
 void FixCGMSFluid::advance_fluid_mass()
 {
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   double *rmass = atom->rmass;
   const double dt = update->dt;
   int emptied = -1;
   for (int i = 0; i < atom->nlocal; i++) {
-    double *c = cg[i];
+    const BeadRow c = cg[i];
     c[MF] += dt * c[DMDT];
     if (!(c[MF] > 0.0) && emptied < 0) emptied = i;
     if (inertia_fluid) rmass[i] = c[MF] + c[MS];
@@ -449,7 +450,7 @@ const double *FixCGMSFluid::per_bead_values(int ivar, double constant)
 
 void FixCGMSFluid::apply_dryness()
 {
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   const int nlocal = atom->nlocal;
 
   if (!dryness_given) {
@@ -493,7 +494,7 @@ void FixCGMSFluid::apply_dryness()
 bigint FixCGMSFluid::initialise_beads()
 {
   const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
   const double *diameter =
@@ -502,7 +503,7 @@ bigint FixCGMSFluid::initialise_beads()
   int bad = -1;
   bigint fresh = 0;
   for (int i = 0; i < nlocal; i++) {
-    double *c = cg[i];
+    const BeadRow c = cg[i];
     if (c[MF0] <= 0.0) {
       fresh++;
       // the reference cell of doc/model.md, for this bead's cell diameter
@@ -544,11 +545,14 @@ bigint FixCGMSFluid::load_data_file_state()
   bigint loaded = 0;
   if (index >= 0 && flag == 1 && cols == NDATA) {
     double **data = atom->darray[index];
-    double **cg = bead_array(lmp);
+    const BeadState cg = bead_state(lmp);
     for (int i = 0; i < atom->nlocal; i++) {
-      if (cg[i][MF0] > 0.0) continue;
       bool line = false;    // no line leaves the row at 0 (NaN != 0 counts as a line)
       for (int k = 0; k < NDATA; k++) line = line || data[i][k] != 0.0;
+      // a line is taken over once, by a bead that awaits it: then the bead's own state
+      // rules. One whose state was changed meanwhile (set d_mf ...) would lose that.
+      if (line) check_awaits_line(i);
+      if (cg[i][MF0] > 0.0) continue;
       if (!line) {
         if (cg[i][MF0] == AWAITS_DATA_LINE)
           error->one(FLERR,
@@ -592,7 +596,7 @@ void FixCGMSFluid::write_data_section_size(int, int &nx, int &ny)
 
 void FixCGMSFluid::write_data_section_pack(int, double **buf)
 {
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   int flag, cols;
   const int index = atom->find_custom(DATA_PROPERTY, flag, cols);
   double **data = index >= 0 && flag == 1 && cols == NDATA ? atom->darray[index] : nullptr;
@@ -600,10 +604,10 @@ void FixCGMSFluid::write_data_section_pack(int, double **buf)
     buf[i][0] = ubuf(atom->tag[i]).d;
     // a bead without a state yet: the one a data file brought for it, not yet taken over
     // at a setup, or the line of a bead without one
-    const double *row = cg[i];
-    if (cg[i][MF0] <= 0.0) row = data && data[i][MF0] > 0.0 ? data[i] : nullptr;
-    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = row ? row[k] : 0.0;
-    if (!row) buf[i][MF0 + 1] = NO_STATE;
+    const bool own = cg[i][MF0] > 0.0;
+    const bool read = !own && data && data[i][MF0] > 0.0;
+    for (int k = 0; k < NDATA; k++) buf[i][k + 1] = own ? cg[i][k] : read ? data[i][k] : 0.0;
+    if (!own && !read) buf[i][MF0 + 1] = NO_STATE;
   }
 }
 
@@ -632,7 +636,7 @@ void FixCGMSFluid::write_data_section(int, FILE *fp, int n, double **buf, int)
 int FixCGMSFluid::bead_without_state()
 {
   if (!beads_added && atom->natoms == natoms_known) return -1;
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   for (int i = 0; i < atom->nlocal; i++)
     if (cg[i][MF0] <= 0.0) return i;
   beads_added = 0;
@@ -676,7 +680,7 @@ double FixCGMSFluid::compute_vector(int n)
 void FixCGMSFluid::refresh_vector()
 {
   const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   double **v = atom->v;
   double *rmass = atom->rmass;
 
@@ -686,7 +690,7 @@ void FixCGMSFluid::refresh_vector()
   const NeighbourSums *sums = neighbour_sums(lmp);
   double local_max[3] = {0.0, 0.0, 0.0}, local_sum[3] = {0.0, 0.0, 0.0};
   for_each_output([&](int i, const double *out) {
-    const double *c = cg[i];
+    const BeadRow c = cg[i];
     local_max[0] = MAX(local_max[0], fabs(out[OUT_PRESS] + c[DRYNESS] * mat.Pi_f) / fabs(mat.Pi_f));
     const double nn = out[OUT_NNEIGH];
     if (nn > 0.0) {
@@ -757,7 +761,7 @@ void FixCGMSFluid::for_each_output(const std::function<void(int, const double *)
 {
   const auto *current = dynamic_cast<const PairCGMS *>(force->pair);
   if (current) return current->for_each_output(use);
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   double out[NOUTPUTS];
   for (int k = 0; k < NOUTPUTS; k++) out[k] = 0.0;
   for (int i = 0; i < atom->nlocal; i++) {
@@ -785,13 +789,13 @@ void FixCGMSFluid::forward(int column)
 
 int FixCGMSFluid::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   for (int i = 0; i < n; i++) buf[i] = cg[list[i]][comm_column];
   return n;
 }
 
 void FixCGMSFluid::unpack_forward_comm(int n, int first, double *buf)
 {
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   for (int i = 0; i < n; i++) cg[first + i][comm_column] = buf[i];
 }

@@ -100,6 +100,8 @@ class FixCGMSFluid : public Fix {
   void apply_dryness();
   void refresh_ghost_dryness();
   bigint load_data_file_state();
+  void check_awaits_line(int);
+  void check_stored_state();
   bigint initialise_beads();
   int bead_without_state();
   void advance_fluid_mass();

@@ -12,6 +12,7 @@
 #include "fix_cgms_fluid.h"
 
 #include "atom.h"
+#include "atom_vec_cgms.h"
 #include "cgms_laws.h"
 #include "cgms_store.h"
 #include "comm.h"
@@ -122,7 +123,7 @@ void FixCGMSFluid::warn_if_dried(bigint fresh)
   const NeighbourSums *sums = neighbour_sums(lmp);
   if (!pair->pair_coefficient_needed() && !transfer) return;    // no geometry computed
   const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   // interior beads (six neighbours or more): their side against the reference side
   double local[2] = {0.0, 0.0}, global[2];
   for (int i = 0; i < atom->nlocal; i++) {
@@ -156,12 +157,56 @@ void FixCGMSFluid::fresh_bead_error(int fresh)
              atom->tag[fresh], update->ntimestep);
 }
 
+/* ----------------------------------------------------------------------
+   bead i has a line of a data file's state section that no setup took over
+   yet: its state must be the one read_data left (data_atom_post), or a
+   command between read_data and this setup changed it (set d_mf ..., the
+   state's custom vectors), which taking the line over would silently undo
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_awaits_line(int i)
+{
+  const BeadState cg = bead_state(lmp);
+  int changed = cg[i][MF0] != AWAITS_DATA_LINE ? MF0 : -1;
+  for (int k = 0; k < NSTATE && changed < 0; k++)
+    if (k != MF0 && cg[i][k] != 0.0) changed = k;
+  if (changed >= 0)
+    error->one(FLERR,
+               "Fix cgms/fluid: bead {} has a line in the data file's {} section, which setup "
+               "takes over, but its {} was changed after read_data (to {}, e.g. by 'set ... "
+               "d_{}'): taking the line over would undo that. Give 'run 0' after read_data "
+               "(the beads take their lines), then change the state",
+               atom->tag[i], DATA_SECTION, state_name(changed), cg[i][changed],
+               state_name(changed));
+}
+
+/* ----------------------------------------------------------------------
+   the state every bead holds at setup, in the ranges of a data-file line
+   (data_row_problem): a value changed between runs (set d_mf ...) must not
+   surface later as a NaN or an unstable step
+------------------------------------------------------------------------- */
+
+void FixCGMSFluid::check_stored_state()
+{
+  const BeadState cg = bead_state(lmp);
+  double row[NSTATE];
+  for (int i = 0; i < atom->nlocal; i++) {
+    for (int k = 0; k < NSTATE; k++) row[k] = cg[i][k];
+    const std::string problem = data_row_problem(row);
+    if (!problem.empty())
+      error->one(FLERR,
+                 "Fix cgms/fluid: bead {} has {} (its state, the custom per-atom vectors "
+                 "d_dryness ... d_dmdt, e.g. changed with set): give it a value in range",
+                 atom->tag[i], problem);
+  }
+}
+
 void FixCGMSFluid::emptied_error(int emptied)
 {
   error->one(FLERR,
              "Fix cgms/fluid: fluid mass of bead {} became {} at step {}: mass transfer is "
              "unstable; reduce the time step (now {:.6g} s)",
-             atom->tag[emptied], bead_array(lmp)[emptied][MF], update->ntimestep, update->dt);
+             atom->tag[emptied], bead_state(lmp)[emptied][MF], update->ntimestep, update->dt);
 }
 
 /* ----------------------------------------------------------------------
@@ -172,7 +217,7 @@ void FixCGMSFluid::emptied_error(int emptied)
 void FixCGMSFluid::stop_if_unstable(const Trouble &t)
 {
   const Material &mat = pair->material();
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   const double *rmass = atom->rmass;
   const NeighbourSums *sums = neighbour_sums(lmp);
   const double dt = update->dt;
@@ -306,7 +351,7 @@ void FixCGMSFluid::isolated_error(int i)
 {
   const Material &mat = pair->material();
   double **x = atom->x;
-  const double s = bead_array(lmp)[i][DRYNESS];
+  const double s = bead_state(lmp)[i][DRYNESS];
   double nearest = HUGE_VAL;
   for (int ii = 0; ii < list->inum; ii++) {
     const int a = list->ilist[ii];

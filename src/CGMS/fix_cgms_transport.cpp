@@ -688,7 +688,7 @@ void FixCGMSTransport::check_columns()
 void FixCGMSTransport::check_not_dried()
 {
   if (!utils::strmatch(atom->atom_style, "^cgms")) return;
-  double **cg = CGMS::bead_array(lmp);
+  const CGMS::BeadState cg = CGMS::bead_state(lmp);
   int flag, cols;
   const int index = atom->find_custom(CGMS::DATA_PROPERTY, flag, cols);
   double **data = index >= 0 && flag == 1 && cols == CGMS::NDATA ? atom->darray[index] : nullptr;

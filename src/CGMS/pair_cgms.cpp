@@ -292,7 +292,7 @@ template <int EVFLAG, int PAIRCOEF, int LJ, int DAMP> void PairCGMS::eval(int ca
   double **x = atom->x;
   double **v = atom->v;
   double **f = atom->f;
-  double **cg = CGMS::bead_array(lmp);
+  const CGMS::BeadState cg = CGMS::bead_state(lmp);
   const double *coef = this->coef;
   const double *rdist = this->rdist;
   bigint k = 0;

@@ -75,7 +75,7 @@ struct DrynessLaws {
 void PairCGMS::geometry_pass()
 {
   double **x = atom->x;
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
   const int newton_pair = force->newton_pair;
@@ -175,7 +175,7 @@ struct FluidPassConstants {
 // the density: under a quasi-static solve the one of P = -Pi (doc/model.md, Steady
 // state), with the fluid mass that fills the current cell with it; else the rate form of
 // eqns (5)-(6) (density rate), or m_f / (h A)
-inline double bead_density(const FluidPassConstants &p, const DrynessLaws &at, double *c,
+inline double bead_density(const FluidPassConstants &p, const DrynessLaws &at, const BeadRow &c,
                            double area, double inv_area)
 {
   if (p.balance) {
@@ -265,7 +265,7 @@ struct StabilityScan {
 
 void PairCGMS::fluid_pass()
 {
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   double *rmass = atom->rmass;
   const int nlocal = atom->nlocal;
 
@@ -304,7 +304,7 @@ void PairCGMS::fluid_pass()
   double energy = 0.0;
   DrynessLaws at;
   for (int i = 0; i < nlocal; i++) {
-    double *c = cg[i];
+    const BeadRow c = cg[i];
 
     if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, periphery);
     const double nn = sums[i].count;
@@ -359,7 +359,7 @@ double PairCGMS::shape_pair_energy() const
   const double s_uniform = uniform_dryness;
   const int by_bead = mat.k_S_exponent != 0.0 && s_uniform <= 0.0;
   const double kS = by_bead ? 0.0 : mat.shape_stiffness(s_uniform > 0.0 ? s_uniform : 1.0);
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   double energy = 0.0;
@@ -387,14 +387,14 @@ double PairCGMS::shape_pair_energy() const
 
 void PairCGMS::for_each_output(const std::function<void(int, const double *)> &use) const
 {
-  double **cg = bead_array(lmp);
+  const BeadState cg = bead_state(lmp);
   const int nlocal = atom->nlocal;
   const NeighbourSums *sums = neighbour_sums(lmp);
   const int derived = passes_run;
   DrynessLaws at;
   double out[NOUTPUTS];
   for (int i = 0; i < nlocal; i++) {
-    const double *c = cg[i];
+    const BeadRow c = cg[i];
     for (int k = 0; k < NSTATE; k++) out[STATE_OUTPUT[k]] = c[k];
     out[OUT_COEF] = out[OUT_NNEIGH] = out[OUT_SIDE] = 0.0;
     out[OUT_PRESS] = out[OUT_PERIM] = out[OUT_LDEQ] = 0.0;

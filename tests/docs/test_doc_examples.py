@@ -167,6 +167,7 @@ PAGES = {
                                               "fix nve all nve", "fix 2d all enforce2d",
                                               "timestep 1e-7"],
     "fix_cgms_transport.rst": lambda f: CGMS,
+    "compute_cgms_atom.rst": lambda f: CGMS,
     "fix_mfc_pressure.rst": None,
     "pair_sph_taitwater_ap.rst": sph_setup,
 }
@@ -218,7 +219,7 @@ def test_readme_lammps_inputs_run(folder):
     run_lines(setup + ovito.replace("&\n", " ").splitlines() + ["run 0"],
               folder / "log.ovito.lammps")
     header = Path("tissue.dump").read_text().splitlines()[8]
-    assert header.split()[2:] == "id type x y z mf rho pressure area perim".split()
+    assert header.split()[2:] == "id type x y z d_mf d_rho pressure area perim".split()
 
 
 @pytest.mark.lammps

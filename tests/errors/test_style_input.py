@@ -117,7 +117,7 @@ def test_hybrid_atom_style_refused(tmp_path):
         "read_data tissue.data", "region b block 0 1e-3 0 1e-3 -1e-4 1e-4\ncreate_box 1 b")
     proc = run_lmp(tmp_path, text, check=False)
     assert proc.returncode != 0
-    assert "requires atom_style cgms (found atom_style hybrid)" in proc.stdout
+    assert "Atom style cgms cannot be used as a sub-style of atom_style hybrid" in proc.stdout
 
 
 def test_replicate_stops_cleanly(tmp_path):
