@@ -1188,8 +1188,10 @@ double FixCGMSTransport::product_temperature()
   if (evaporation(lo) <= 0.0)
     error->all(FLERR,
                "Fix cgms/transport: no product temperature above -20 C balances the "
-               "evaporation (air at {} C)",
-               t_air);
+               "evaporation (air at {} C, humidity {}): the evaporation would cool the "
+               "surface below the range of the model's water properties; give warmer or "
+               "more humid air (temperature, humidity), or heat no",
+               t_air, humidity);
   // bisection to 1e-10 K: each probe is one sum over the surface nodes
   while (hi - lo > 1e-10) {
     const double mid = 0.5 * (lo + hi);
