@@ -52,7 +52,10 @@ def files(tmp_path):
     (tmp_path / "gab_c.params").write_text(params.replace(gab_c, "GAB_C 0.5"))
     centroids = "".join(f"{i + 1} {x * 1e6!r} {y * 1e6!r}\n" for i, (x, y) in enumerate(block))
     (tmp_path / "um.txt").write_text(centroids)
+    lines = open(write(tmp_path / "whole.data", block)).read().splitlines()
+    (tmp_path / "cut.data").write_text("\n".join(lines[:-3]) + "\n")   # cut at a line end
     return dict(
+        cut=str(tmp_path / "cut.data"),
         one=write(tmp_path / "one.data", [[0, 0]]),
         row=write(tmp_path / "row.data", [[k * XREF, 0] for k in range(6)]),
         isolated=write(tmp_path / "isolated.data", np.vstack([block, [[5e-3, 5e-3]]])),
@@ -76,6 +79,7 @@ REFUSED = [
     # 2026-12-03: read and dropped unread / passed on to the fix, whose ERROR came back
     # cut short as an "internal error" after the folder was made
     (["--params", "FILE:extra_params"], "unknown parameter 'D_reff'"),
+    (["--data", "FILE:cut"], "its header declares 33 atoms, its Atoms section holds 30"),
     (["--params", "FILE:gab_c"], "GAB_C = 0.5 must be above 1"),
     (["--velocity", "1e300"], "gives a Reynolds number of 2.01e+303, outside 1 to 1e+08"),
     (["--plate-length", "1e-300"], "--plate-length 1e-300 mm gives a Reynolds number"),
