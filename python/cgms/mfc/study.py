@@ -51,7 +51,10 @@ def glue_fresh_lamella(out, centres, p):
     resume. Returns the data file and the rest lengths."""
     data, table = out / "lamella.data", out / "lamella.txt"
     if data.exists() and table.exists():
-        return data, np.loadtxt(table, ndmin=2).reshape(-1, 2)[:, 1]   # one cell: none
+        # one cell: no bond, an empty table (np.loadtxt warns on it)
+        rows = [line.split() for line in table.read_text().splitlines()
+                if line.strip() and not line.startswith("#")]
+        return data, np.array([float(r[1]) for r in rows])
     xy = morphology.read_dump(out / f"walls.{level_name(1.0)}.dump")[-1]["xy"]   # id order
     w = mfc_tissue.walls(centres, p)
     pairs, types, rest = mfc_tissue.fresh_lamella(xy, w["cell"], p)
