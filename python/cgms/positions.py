@@ -107,6 +107,15 @@ def _declared_atoms(lines):
     return None
 
 
+def _atoms_style(lines):
+    """The atom style a data file's Atoms line names (``Atoms # cgms``), or None."""
+    for raw in lines[1:]:
+        head, _, hint = raw.partition("#")
+        if head.split() == ["Atoms"]:
+            return hint.split()[0] if hint.split() else None
+    return None
+
+
 def read_data(path):
     """The beads of a LAMMPS data file of ``atom_style cgms``: a dict with ``ids`` (sorted),
     ``xy`` (n, 2, ordered by id, metres) and ``diameters`` (ordered by id, or None without a
@@ -120,6 +129,12 @@ def read_data(path):
     # the header lines (counts, box) come before the first section
     if "Atoms" not in sections:
         raise ValueError(f"{path}: no Atoms section (not a LAMMPS data file?)")
+    style = _atoms_style(lines)
+    if style not in (None, "cgms", "atomic"):
+        # another style's columns differ (angle: id mol type x y z): x would be read wrong
+        raise ValueError(f"{path}: its Atoms section is of atom_style {style}; a tissue file "
+                         "is of atom_style cgms or atomic ('id type x y z': cgms tissue, or "
+                         "LAMMPS's write_data of a CGMS run)")
     rows = []
     for lineno, words in sections["Atoms"]:
         try:
