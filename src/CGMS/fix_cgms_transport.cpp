@@ -692,24 +692,38 @@ void FixCGMSTransport::check_state_layout()
 }
 
 /* ----------------------------------------------------------------------
-   every column keeps the fresh thickness L0 it was set up with (its dry
-   solid S = rho_s A0 L0 holds it too): a fix with another thickness would
-   run on as if it had not been given
+   every column keeps the fresh thickness L0 and the dry solid S = rho_s A0 L0
+   it was set up with: a fix with another thickness or solids_density would
+   run on as if it had not been given them
 ------------------------------------------------------------------------- */
 
 void FixCGMSTransport::check_thickness()
 {
-  double local = 0.0, stored;
-  for (int i = 0; i < atom->nlocal; i++)
-    if (has_column(i) && column(i)[layers + 2] != thickness) local = column(i)[layers + 2];
-  MPI_Allreduce(&local, &stored, 1, MPI_DOUBLE, MPI_MAX, world);
-  if (stored != 0.0)
+  // the relative change of rho_s that S / (A0 L0) carries: a few roundings
+  constexpr double ROUNDING = 1e-12;
+  double local[2] = {0.0, 0.0}, stored[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!has_column(i)) continue;
+    const double *col = column(i);
+    if (col[layers + 2] != thickness) local[0] = col[layers + 2];
+    const double rho = col[layers] / (col[layers + 1] * col[layers + 2]);
+    if (fabs(rho / solids_density - 1.0) > ROUNDING) local[1] = rho;
+  }
+  MPI_Allreduce(local, stored, 2, MPI_DOUBLE, MPI_MAX, world);
+  if (stored[0] != 0.0)
     error->all(FLERR,
                "Fix cgms/transport {}: the tissue's moisture columns (from a restart file or "
                "an earlier fix) were set up for a slice thickness of {} m, this fix has "
                "thickness {} m; a drying slice keeps its fresh thickness: give thickness {} "
                "(or unfix {} to start the tissue afresh at X0)",
-               id, stored, thickness, stored, STATE_FIX);
+               id, stored[0], thickness, stored[0], STATE_FIX);
+  if (stored[1] != 0.0)
+    error->all(FLERR,
+               "Fix cgms/transport {}: the tissue's moisture columns (from a restart file or "
+               "an earlier fix) hold the dry solid of solids_density {:.10g} kg/m^3, {} has "
+               "{:.10g}; the dry solid of a column does not change: give the parameter file "
+               "the columns started from (or unfix {} to start the tissue afresh at X0)",
+               id, stored[1], params_file, solids_density, STATE_FIX);
 }
 
 /* ----------------------------------------------------------------------

@@ -445,3 +445,19 @@ def test_until_already_past_says_no_step_is_made(tmp_path, reference):
     got = rows(proc.stdout)
     assert got[-1][14] == 10 and got[-1][1] == reference[0][10][1]
     assert "at or past until 5 s: this run makes no moisture step" in proc.stdout
+
+
+def test_redefinition_with_another_solids_density_is_refused(tmp_path):
+    """The dry solid of a column is set once: a parameter file with another solids_density
+    (same X0) used to be taken without its density being used."""
+    text = PARAMS_FILE.read_text()
+    line = next(r for r in text.splitlines() if r.split()[:1] == ["solids_density"])
+    (tmp_path / "denser.params").write_text(text.replace(line, "solids_density 200"))
+    denser = ARGS.replace(str(PARAMS_FILE), "denser.params")
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + [f"fix tr all cgms/transport {ARGS}"] + outputs()
+               + ["run 5", f"fix tr all cgms/transport {denser}", "run 5"], check=False)
+    assert proc.returncode != 0
+    error = first_error(proc)
+    assert "hold the dry solid of solids_density" in error and "denser.params has 200" in error, \
+        error
