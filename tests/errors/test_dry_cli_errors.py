@@ -375,3 +375,24 @@ def test_transport_stop_gives_its_whole_error_line(tmp_path, capsys):
     assert line.startswith("cgms dry: the moisture transport stopped: ERROR: Fix "
                            "cgms/transport: no product temperature above -20 C"), line
     assert "give warmer or more humid air" in line and "before the drying began" in line
+
+
+def test_folder_filled_after_the_check_is_refused_without_resume(tmp_path, capsys, monkeypatch):
+    """Two dry commands on one --out: the second checks the folder before the first has
+    filled it, and its claim then refuses it; that line used to offer --resume, which dry
+    does not have. (The race made certain: the folder is filled after the options' check.)"""
+    from cgms.cli import dry as dry_cli
+    out = tmp_path / "out"
+    checked = dry_cli._tissue
+
+    def filled_meanwhile(args, mat):
+        t = checked(args, mat)
+        out.mkdir()
+        (out / "drying.csv").write_text("the other run's\n")
+        return t
+    monkeypatch.setattr(dry_cli, "_tissue", filled_meanwhile)
+    status, err, _ = dry(capsys, out, *SMALL, "--frozen", "--hours", "0.01")
+    line = one_line(err)
+    assert status != 0 and "exists and is not empty; choose another --out" in line, line
+    assert "--resume" not in line
+    assert (out / "drying.csv").read_text() == "the other run's\n"

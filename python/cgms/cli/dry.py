@@ -221,7 +221,7 @@ def _job(args, world):
         def claim():
             if world.rank > 0:
                 return None
-            out = stack.enter_context(folders.claim(args.out, "drying"))
+            out = stack.enter_context(folders.claim(args.out, "drying", resumable=False))
             from .tissues import write_tissue
             return out, write_tissue(out, t, mat)
 
