@@ -59,12 +59,13 @@ def _lock(folder):
 
 
 @contextmanager
-def claim(out, kind, resume=False):
+def claim(out, kind, resume=False, resumable=True):
     """The results folder of one command, locked while the ``with`` block runs.
 
     New (``resume`` false): ``out`` (default ``results/<kind>/<date-time>``) is created; it
     may exist only as an empty folder. Resumed: ``out`` must be given and be a folder.
-    FolderError says what is wrong; nothing is created then."""
+    ``resumable``: whether the command has ``--resume`` (the refusal of a folder in use
+    offers it only then). FolderError says what is wrong; nothing is created then."""
     if resume and not out:
         raise FolderError("--resume continues the study in --out: give the folder with --out")
     out = Path(out) if out else default_folder(kind)
@@ -74,8 +75,9 @@ def claim(out, kind, resume=False):
         raise FolderError(f"--resume: {out} does not exist (nothing to continue); leave out "
                           "--resume to start a new study there")
     if not resume and out.exists() and any(p.name != LOCK for p in out.iterdir()):
-        raise FolderError(f"{out} exists and is not empty; choose another --out "
-                          "(or --resume to continue an interrupted study there)")
+        raise FolderError(f"{out} exists and is not empty; choose another --out"
+                          + (" (or --resume to continue an interrupted study there)"
+                             if resumable else ""))
     try:
         out.mkdir(parents=True, exist_ok=True)
         fh = _lock(out)

@@ -92,6 +92,30 @@ def _sections(path, lines):
     return out
 
 
+def _declared_atoms(lines):
+    """The atom count of a data file's header ('N atoms', before the first section), or
+    None."""
+    for raw in lines:
+        words = raw.split("#", 1)[0].split()
+        if len(words) == 1 and words[0][0].isalpha():
+            return None                      # the first section: the header is over
+        if len(words) == 2 and words[1] == "atoms":
+            try:
+                return int(words[0])
+            except ValueError:
+                return None
+    return None
+
+
+def _atoms_style(lines):
+    """The atom style a data file's Atoms line names (``Atoms # cgms``), or None."""
+    for raw in lines[1:]:
+        head, _, hint = raw.partition("#")
+        if head.split() == ["Atoms"]:
+            return hint.split()[0] if hint.split() else None
+    return None
+
+
 def read_data(path):
     """The beads of a LAMMPS data file of ``atom_style cgms``: a dict with ``ids`` (sorted),
     ``xy`` (n, 2, ordered by id, metres) and ``diameters`` (ordered by id, or None without a
@@ -105,6 +129,12 @@ def read_data(path):
     # the header lines (counts, box) come before the first section
     if "Atoms" not in sections:
         raise ValueError(f"{path}: no Atoms section (not a LAMMPS data file?)")
+    style = _atoms_style(lines)
+    if style not in (None, "cgms", "atomic"):
+        # another style's columns differ (angle: id mol type x y z): x would be read wrong
+        raise ValueError(f"{path}: its Atoms section is of atom_style {style}; a tissue file "
+                         "is of atom_style cgms or atomic ('id type x y z': cgms tissue, or "
+                         "LAMMPS's write_data of a CGMS run)")
     rows = []
     for lineno, words in sections["Atoms"]:
         try:
@@ -116,6 +146,10 @@ def read_data(path):
                              "section") from None
     if not rows:
         raise ValueError(f"{path}: the Atoms section is empty")
+    declared = _declared_atoms(lines[1:])
+    if declared is not None and declared != len(rows):
+        raise ValueError(f"{path}: its header declares {declared} atoms, its Atoms section "
+                         f"holds {len(rows)} (a file cut short or edited by hand?)")
     rows.sort()
     ids = np.array([r[0] for r in rows], dtype=np.int64)
     if np.any(np.diff(ids) == 0):

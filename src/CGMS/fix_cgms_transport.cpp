@@ -504,6 +504,15 @@ void FixCGMSTransport::init()
     error->all(FLERR,
                "Fix cgms/transport needs a pair style or the cutoff keyword: its neighbours "
                "are the beads within that distance");
+  // one transport state per system: two fixes would both step its columns (each bead
+  // dried twice per step, and the water balance broken)
+  for (auto *other : modify->get_fix_by_style("^cgms/transport$"))
+    if (other != this)
+      error->all(FLERR,
+                 "Fix cgms/transport {}: fix {} dries this tissue already (both would step its "
+                 "one set of moisture columns, fix {}): unfix {} first, or define fix {} again "
+                 "to change its settings",
+                 id, other->id, STATE_FIX, other->id, other->id);
   cutoff = cutoff_user > 0.0 ? cutoff_user : force->pair->cutforce;
   double ghost = comm->cutghostuser;
   if (force->pair) ghost = MAX(force->pair->cutforce + neighbor->skin, ghost);
@@ -538,6 +547,7 @@ void FixCGMSTransport::setup(int)
 {
   bind_state();
   check_state_layout();
+  check_beads();
   if (!initialised) {
     bigint with = 0, local = 0;
     for (int i = 0; i < atom->nlocal; i++) local += has_column(i) ? 1 : 0;
@@ -553,6 +563,25 @@ void FixCGMSTransport::setup(int)
   for (int i = 0; i < atom->nlocal; i++) set_output(i);
   refresh_vector();
   save_globals();
+  if (until > 0.0 && time >= until - 1e-9 && comm->me == 0)
+    error->warning(FLERR,
+                   "Fix cgms/transport {}: the tissue has dried for {:.6g} s, at or past until "
+                   "{:.6g} s: this run makes no moisture step",
+                   id, time, until);
+}
+
+/* ----------------------------------------------------------------------
+   a run needs beads to dry: with none (all deleted) the tissue's X/X0 and
+   drying rate are 0/0
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::check_beads()
+{
+  if (atom->natoms == 0)
+    error->all(FLERR,
+               "Fix cgms/transport {}: the system has no beads (none read, or all deleted): "
+               "there is no tissue to dry; unfix {} for a run without beads",
+               id, id);
 }
 
 /* ----------------------------------------------------------------------
@@ -646,7 +675,10 @@ void FixCGMSTransport::check_state_layout()
   const tagint mine = bad >= 0 ? atom->tag[bad] : MAXTAGINT;
   tagint first;
   MPI_Allreduce(&mine, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
-  if (first == MAXTAGINT) return;
+  if (first == MAXTAGINT) {
+    check_thickness();
+    return;
+  }
   double found[3] = {0.0, 0.0, 0.0}, all[3];
   if (bad >= 0 && atom->tag[bad] == first)
     for (int k = 0; k < 3; k++) found[k] = row[bad][R_LAYERS + k];
@@ -657,6 +689,41 @@ void FixCGMSTransport::check_state_layout()
              "layers {} faces {} and X0 {} ({}): give the same (or unfix {} to start the "
              "tissue afresh at X0)",
              all[0], all[1], all[2], layers, faces, x0, params_file, STATE_FIX);
+}
+
+/* ----------------------------------------------------------------------
+   every column keeps the fresh thickness L0 and the dry solid S = rho_s A0 L0
+   it was set up with: a fix with another thickness or solids_density would
+   run on as if it had not been given them
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::check_thickness()
+{
+  // the relative change of rho_s that S / (A0 L0) carries: a few roundings
+  constexpr double ROUNDING = 1e-12;
+  double local[2] = {0.0, 0.0}, stored[2];
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!has_column(i)) continue;
+    const double *col = column(i);
+    if (col[layers + 2] != thickness) local[0] = col[layers + 2];
+    const double rho = col[layers] / (col[layers + 1] * col[layers + 2]);
+    if (fabs(rho / solids_density - 1.0) > ROUNDING) local[1] = rho;
+  }
+  MPI_Allreduce(local, stored, 2, MPI_DOUBLE, MPI_MAX, world);
+  if (stored[0] != 0.0)
+    error->all(FLERR,
+               "Fix cgms/transport {}: the tissue's moisture columns (from a restart file or "
+               "an earlier fix) were set up for a slice thickness of {} m, this fix has "
+               "thickness {} m; a drying slice keeps its fresh thickness: give thickness {} "
+               "(or unfix {} to start the tissue afresh at X0)",
+               id, stored[0], thickness, stored[0], STATE_FIX);
+  if (stored[1] != 0.0)
+    error->all(FLERR,
+               "Fix cgms/transport {}: the tissue's moisture columns (from a restart file or "
+               "an earlier fix) hold the dry solid of solids_density {:.10g} kg/m^3, {} has "
+               "{:.10g}; the dry solid of a column does not change: give the parameter file "
+               "the columns started from (or unfix {} to start the tissue afresh at X0)",
+               id, stored[1], params_file, solids_density, STATE_FIX);
 }
 
 /* ----------------------------------------------------------------------
@@ -1135,8 +1202,10 @@ double FixCGMSTransport::product_temperature()
   if (evaporation(lo) <= 0.0)
     error->all(FLERR,
                "Fix cgms/transport: no product temperature above -20 C balances the "
-               "evaporation (air at {} C)",
-               t_air);
+               "evaporation (air at {} C, humidity {}): the evaporation would cool the "
+               "surface below the range of the model's water properties; give warmer or "
+               "more humid air (temperature, humidity), or heat no",
+               t_air, humidity);
   // bisection to 1e-10 K: each probe is one sum over the surface nodes
   while (hi - lo > 1e-10) {
     const double mid = 0.5 * (lo + hi);
@@ -1155,6 +1224,7 @@ double FixCGMSTransport::product_temperature()
 
 void FixCGMSTransport::move()
 {
+  check_beads();
   account_removed();
   // the drying ends at 'until' (1e-9 s: below any step the adaptive rule makes)
   if (until > 0.0 && time >= until - 1e-9) return;

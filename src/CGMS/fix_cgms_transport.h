@@ -120,6 +120,8 @@ class FixCGMSTransport : public Fix {
   int restart_store_size() const;
   void refuse_store_size(int cols);
   void check_state_layout();
+  void check_thickness();
+  void check_beads();
   void check_columns();
   void check_not_dried();
   void load_globals();

@@ -11,6 +11,7 @@
 #include "error.h"
 #include "group.h"
 #include "memory.h"
+#include "modify.h"
 #include "update.h"
 
 #include <cmath>
@@ -141,6 +142,20 @@ void FixMFCPressure::init()
                ncell);
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "Fix mfc/pressure needs an atom map (atom_modify map)");
+  // a wall particle in two of these fixes has its cell's fluid pushing on it twice
+  for (auto *other : modify->get_fix_by_style("^mfc/pressure$")) {
+    if (other == this) continue;
+    int local = 0, shared;
+    for (int i = 0; i < atom->nlocal && !local; i++)
+      if ((atom->mask[i] & groupbit) && (atom->mask[i] & other->groupbit)) local = 1;
+    MPI_Allreduce(&local, &shared, 1, MPI_INT, MPI_MAX, world);
+    if (shared)
+      error->all(FLERR,
+                 "Fix mfc/pressure {}: fix {} holds wall particles of group {} too, so their "
+                 "cells' fluid would push twice; each cell belongs to one fix (unfix {}, or "
+                 "give the fixes groups without a common particle)",
+                 id, other->id, group->names[igroup], other->id);
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -180,8 +195,10 @@ void FixMFCPressure::ring_partners(int i, int &prev, int &next)
     int j = atom->map(other);
     if (j < 0)
       error->one(FLERR,
-                 "Fix mfc/pressure: bond partner {} of wall particle {} is missing "
-                 "(a wall particle left its processor's ghost region?)",
+                 "Fix mfc/pressure: bond partner {} of wall particle {} is missing: it was "
+                 "deleted (a ring needs every particle: delete whole cells, e.g. "
+                 "'group gone molecule 5' and 'delete_atoms group gone bond yes'), or it is "
+                 "beyond this processor's ghost region (comm_modify cutoff)",
                  other, me);
     j = domain->closest_image(i, j);
     if (atom->molecule[j] != atom->molecule[i]) continue;
@@ -262,8 +279,17 @@ void FixMFCPressure::post_force(int /*vflag*/)
     const double q6 = q * q * q * q * q * q;
     pressure[c] = CGMS::tait_pressure(CGMS::pow7(q), turgor, modulus);
     // -H int_{A_f}^{A} P dA, zero at A = A_f
-    energy += height *
-        ((modulus - turgor) * (area[c] - fluid_area) + modulus * fluid_area / 6.0 * (q6 - 1.0));
+    const double stored =
+        height * ((modulus - turgor) * (area[c] - fluid_area) + modulus * fluid_area / 6.0 * (q6 - 1.0));
+    // a fluid squeezed far below its rest area: (A_f / A)^7 overflows
+    if (!std::isfinite(pressure[c]) || !std::isfinite(stored))
+      error->all(FLERR,
+                 "Fix mfc/pressure: cell {} on step {}: its fluid of rest area {} m^2 in a ring "
+                 "of area {} m^2 gives a pressure of {} Pa (the Tait law's (A_f / A)^7 "
+                 "overflows): the area keyword must be the fluid's rest area, of the order of "
+                 "the ring's",
+                 c + 1, update->ntimestep, fluid_area, area[c], pressure[c]);
+    energy += stored;
   }
 
   for (int i = 0; i < nlocal; i++) {

@@ -396,3 +396,68 @@ def test_bad_parameter_file_names_the_cause(tmp_path, line, message):
                + ["fix tr all cgms/transport p.params"] + outputs() + ["run 3"], check=False)
     assert proc.returncode != 0
     assert message in first_error(proc), proc.stdout[-2000:]
+
+
+# ------------------------------------------------ adversarial pass of 2026-12-03
+
+def test_second_transport_fix_is_refused(tmp_path):
+    """Two transport fixes under two IDs used to both step the one set of columns: each
+    bead dried twice per step and the water balance was off by a quarter, silently."""
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + [f"fix tr all cgms/transport {ARGS}", f"fix tr2 all cgms/transport {ARGS}"]
+               + outputs() + ["run 3"], check=False)
+    assert proc.returncode != 0
+    error = first_error(proc)
+    assert "fix tr2 dries this tissue already" in error and "unfix tr2 first" in error, error
+
+
+@pytest.mark.parametrize("when", ["before", "after"])
+def test_run_without_beads_is_refused(tmp_path, when):
+    """A tissue of no beads (none read, or all deleted) used to 'dry' on: drying time and
+    steps counting, X/X0 0 and a drying rate of NaN."""
+    deleted = ["delete_atoms group all"]
+    steps = (deleted + [f"fix tr all cgms/transport {ARGS}"] + outputs() + ["run 3"]
+             if when == "before" else
+             [f"fix tr all cgms/transport {ARGS}"] + outputs() + ["run 3"] + deleted + ["run 3"])
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces() + steps, check=False)
+    assert proc.returncode != 0
+    assert "the system has no beads" in first_error(proc), proc.stdout[-2000:]
+    assert "nan" not in proc.stdout.lower()
+
+
+def test_redefinition_with_another_thickness_is_refused(tmp_path):
+    """The columns keep the fresh thickness they were set up with: a fix defined again
+    with another thickness used to run on as if it had not been given it."""
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + [f"fix tr all cgms/transport {ARGS}"] + outputs()
+               + ["run 5", f"fix tr all cgms/transport {ARGS} thickness 1e-3", "run 5"],
+               check=False)
+    assert proc.returncode != 0
+    error = first_error(proc)
+    assert "set up for a slice thickness of 0.002 m" in error and "give thickness 0.002" in error
+
+
+def test_until_already_past_says_no_step_is_made(tmp_path, reference):
+    """A fix defined again with an until the drying has passed makes no step, and says so."""
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + [f"fix tr all cgms/transport {ARGS}"] + outputs()
+               + ["run 10", f"fix tr all cgms/transport {ARGS} until 5"] + outputs() + ["run 5"])
+    got = rows(proc.stdout)
+    assert got[-1][14] == 10 and got[-1][1] == reference[0][10][1]
+    assert "at or past until 5 s: this run makes no moisture step" in proc.stdout
+
+
+def test_redefinition_with_another_solids_density_is_refused(tmp_path):
+    """The dry solid of a column is set once: a parameter file with another solids_density
+    (same X0) used to be taken without its density being used."""
+    text = PARAMS_FILE.read_text()
+    line = next(r for r in text.splitlines() if r.split()[:1] == ["solids_density"])
+    (tmp_path / "denser.params").write_text(text.replace(line, "solids_density 200"))
+    denser = ARGS.replace(str(PARAMS_FILE), "denser.params")
+    proc = run(tmp_path, head() + ["read_data t.data"] + forces()
+               + [f"fix tr all cgms/transport {ARGS}"] + outputs()
+               + ["run 5", f"fix tr all cgms/transport {denser}", "run 5"], check=False)
+    assert proc.returncode != 0
+    error = first_error(proc)
+    assert "hold the dry solid of solids_density" in error and "denser.params has 200" in error, \
+        error

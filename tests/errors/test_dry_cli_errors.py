@@ -47,15 +47,22 @@ def files(tmp_path):
     (tmp_path / "empty.data").write_text("")
     params = (ROOT / "potentials" / "apple-drying.params").read_text()
     (tmp_path / "nan.params").write_text(params.replace("X0              5.94", "X0 nan"))
+    (tmp_path / "extra.params").write_text(params + "D_reff 1e-9\n")   # a misspelt name
+    gab_c = [line for line in params.splitlines() if line.startswith("GAB_C")][0]
+    (tmp_path / "gab_c.params").write_text(params.replace(gab_c, "GAB_C 0.5"))
     centroids = "".join(f"{i + 1} {x * 1e6!r} {y * 1e6!r}\n" for i, (x, y) in enumerate(block))
     (tmp_path / "um.txt").write_text(centroids)
+    lines = open(write(tmp_path / "whole.data", block)).read().splitlines()
+    (tmp_path / "cut.data").write_text("\n".join(lines[:-3]) + "\n")   # cut at a line end
     return dict(
+        cut=str(tmp_path / "cut.data"),
         one=write(tmp_path / "one.data", [[0, 0]]),
         row=write(tmp_path / "row.data", [[k * XREF, 0] for k in range(6)]),
         isolated=write(tmp_path / "isolated.data", np.vstack([block, [[5e-3, 5e-3]]])),
         um=write(tmp_path / "um.data", block * 1e6),
         um_txt=str(tmp_path / "um.txt"), empty=str(tmp_path / "empty.data"),
-        folder=str(tmp_path / "full"), nan_params=str(tmp_path / "nan.params"))
+        folder=str(tmp_path / "full"), nan_params=str(tmp_path / "nan.params"),
+        extra_params=str(tmp_path / "extra.params"), gab_c=str(tmp_path / "gab_c.params"))
 
 
 # each: options (FILE:<name> taken from files()), a fragment of the one line expected
@@ -69,6 +76,13 @@ REFUSED = [
     (["--data", "FILE:empty"], "empty.data"),
     (["--data", "FILE:folder"], "--data"),
     (["--params", "FILE:nan_params"], "X0 = nan must be positive"),
+    # 2026-12-03: read and dropped unread / passed on to the fix, whose ERROR came back
+    # cut short as an "internal error" after the folder was made
+    (["--params", "FILE:extra_params"], "unknown parameter 'D_reff'"),
+    (["--data", "FILE:cut"], "its header declares 33 atoms, its Atoms section holds 30"),
+    (["--params", "FILE:gab_c"], "GAB_C = 0.5 must be above 1"),
+    (["--velocity", "1e300"], "gives a Reynolds number of 2.01e+303, outside 1 to 1e+08"),
+    (["--plate-length", "1e-300"], "--plate-length 1e-300 mm gives a Reynolds number"),
     (["--out", "FILE:folder"], "dry always starts a new run"),
     (["--dx-max", "1000", "--no-heat"], "--dx-max must be in (0, 1]"),
     (["--dx-max", "0"], "--dx-max must be in (0, 1]"),
@@ -346,3 +360,39 @@ def test_potato_mfc_default_solver(tmp_path, capsys):
         line = one_line(err)
         assert "LAMMPS stopped" in line and "--solver newton" in line
         assert_listed_files_exist(out, line)
+
+
+def test_transport_stop_gives_its_whole_error_line(tmp_path, capsys):
+    """A stop of fix cgms/transport (here: air too cold for the evaporative cooling) used
+    to end as "internal error (Exception: ERROR: ...", cut at 100 characters, with "please
+    report it"; now it is LAMMPS's whole line, cause and cure, after what was written."""
+    require_lammps()
+    out = tmp_path / "cold"
+    status, err, _ = dry(capsys, out, *SMALL, "--frozen", "--hours", "0.02",
+                         "--temperature", "-19")
+    line = one_line(err)
+    assert status == 1 and "internal error" not in line, line
+    assert line.startswith("cgms dry: the moisture transport stopped: ERROR: Fix "
+                           "cgms/transport: no product temperature above -20 C"), line
+    assert "give warmer or more humid air" in line and "before the drying began" in line
+
+
+def test_folder_filled_after_the_check_is_refused_without_resume(tmp_path, capsys, monkeypatch):
+    """Two dry commands on one --out: the second checks the folder before the first has
+    filled it, and its claim then refuses it; that line used to offer --resume, which dry
+    does not have. (The race made certain: the folder is filled after the options' check.)"""
+    from cgms.cli import dry as dry_cli
+    out = tmp_path / "out"
+    checked = dry_cli._tissue
+
+    def filled_meanwhile(args, mat):
+        t = checked(args, mat)
+        out.mkdir()
+        (out / "drying.csv").write_text("the other run's\n")
+        return t
+    monkeypatch.setattr(dry_cli, "_tissue", filled_meanwhile)
+    status, err, _ = dry(capsys, out, *SMALL, "--frozen", "--hours", "0.01")
+    line = one_line(err)
+    assert status != 0 and "exists and is not empty; choose another --out" in line, line
+    assert "--resume" not in line
+    assert (out / "drying.csv").read_text() == "the other run's\n"

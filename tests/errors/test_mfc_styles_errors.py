@@ -218,3 +218,42 @@ def test_fix_mfc_pressure_example_runs_on_two_ranks(tmp_path):
     _, fmax2, xy2 = run_example(tmp_path / "2", 2)
     assert fmax1 < ftol and fmax2 < ftol
     assert np.abs(xy1 - xy2).max() < 1e-9
+
+
+# ------------------------------------------------ adversarial pass of 2026-12-03
+
+MORE_CASES = [  # what follows the fix, what the ERROR says
+    # a fluid area far above the ring's: (A_f / A)^7 overflowed to an inf pressure, silently
+    ("fix mfc all mfc/pressure height 6e-6 modulus 2e7 turgor 2e5 area 1e300\nrun 0",
+     r"cell 1 on step 0: its fluid of rest area 1e\+300 m\^2 in a ring of area \S+ m\^2 gives "
+     r"a pressure of inf Pa"),
+    # a second fix on the same particles: every cell's fluid pushed twice, silently
+    ("fix mfc2 all mfc/pressure height 6e-6 modulus 2e7 turgor 1e5 area 3e-10\nrun 0",
+     r"Fix mfc/pressure mfc: fix mfc2 holds wall particles of group all too"),
+    # one ring particle deleted: the message blamed the ghost region alone
+    ("run 0\ngroup one id 3\ndelete_atoms group one bond yes\nrun 0",
+     r"bond partner 3 of wall particle (2|4) is missing: it was deleted \(a ring needs every "
+     r"particle: delete whole cells"),
+]
+
+
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+@pytest.mark.parametrize("tail, message", MORE_CASES, ids=["overflow", "twice", "deleted"])
+def test_fix_mfc_pressure_refuses_overflow_twice_and_deleted(tmp_path, tail, message, nprocs):
+    proc = run_rings(tmp_path, [(1, 0, 12, 12), (2, 5e-5, 12, 12)], "all", nprocs, tail)
+    assert proc.returncode != 0
+    assert re.search(message, error_line(proc)), error_line(proc)
+    assert not re.search(r"\binf\b", proc.stdout.split("ERROR")[0].split("Step")[-1])
+
+
+def test_fix_mfc_pressure_keeps_separate_fixes_and_whole_cell_deletion(tmp_path):
+    """The controls: two fixes on separate cells, and a whole cell deleted with its bonds."""
+    tail = ("unfix mfc\nfix a whole mfc/pressure height 6e-6 modulus 2e7 turgor 2e5 area 3e-10\n"
+            "group other molecule 2\n"
+            "fix b other mfc/pressure height 6e-6 modulus 2e7 turgor 1e5 area 3e-10\n"
+            "thermo_style custom step f_a[1] f_b[1]\nrun 0\n"
+            "delete_atoms group other bond yes\nrun 0")
+    proc = run_rings(tmp_path, [(1, 0, 12, 12), (2, 5e-5, 12, 12)], "all", 1, tail)
+    assert proc.returncode == 0, error_line(proc)
+    rows = [r.split() for r in proc.stdout.splitlines() if re.match(r"^\s*0\s+1\s+[01]\s*$", r)]
+    assert [r[1:] for r in rows] == [["1", "1"], ["1", "0"]], proc.stdout[-1500:]

@@ -114,6 +114,13 @@ def _check(args, mat):
         value = getattr(args, name)
         if not (math.isfinite(value) and test(value)):
             raise _usage(f"--{name.replace('_', '-')} must be {rule}, got {value:g}")
+    re = drying.transport.reynolds(args.temperature, args.velocity, args.plate_length * 1e-3)
+    if not drying.transport.REYNOLDS[0] <= re <= drying.transport.REYNOLDS[1]:
+        raise _usage(f"--velocity {args.velocity:g} m/s over --plate-length "
+                     f"{args.plate_length:g} mm gives a Reynolds number of {re:.3g}, outside "
+                     f"{drying.transport.REYNOLDS[0]:g} to {drying.transport.REYNOLDS[1]:g}, "
+                     "the range of the flat-plate correlations of the air-side coefficients: "
+                     "give another velocity or plate length")
     if args.thickness * 1e-3 < mat["x_ref"]:
         raise _usage(f"--thickness must be at least one cell, the material's spacing x_ref = "
                      f"{mat['x_ref'] * 1e3:.3g} mm, got {args.thickness:g}")
@@ -214,7 +221,7 @@ def _job(args, world):
         def claim():
             if world.rank > 0:
                 return None
-            out = stack.enter_context(folders.claim(args.out, "drying"))
+            out = stack.enter_context(folders.claim(args.out, "drying", resumable=False))
             from .tissues import write_tissue
             return out, write_tissue(out, t, mat)
 

@@ -7,7 +7,8 @@ level and write the reference centroids (doc/mfc.md)."""
 import sys
 from pathlib import Path
 
-from ..mfc import model as mfc_model, run as mfc_run, study as mfc_study
+from ..mfc import (model as mfc_model, run as mfc_run, study as mfc_study,
+                   tissue as mfc_tissue)
 from .. import folders, tissue
 
 SINGLE = "single"
@@ -65,7 +66,11 @@ def _centres(name, p):
         w, h = tissue.MICROSCALE[name]
         return tissue.rectangle(w * 1e-3, h * 1e-3, p["x_ref"])
     if Path(name).is_file():
-        return mfc_study.read_centres(name)
+        try:
+            return mfc_study.read_centres(name)
+        except ValueError as err:     # the readers' messages name the file
+            from .options import UsageError
+            raise UsageError(str(err)) from None
     from .options import UsageError
     raise UsageError(f"unknown tissue {name!r}: give one of {SINGLE}, "
                      f"{', '.join(tissue.MICROSCALE)}, all, or a CGMS data file")
@@ -95,7 +100,19 @@ def main(args):
         p = mfc_model.parameters(args.material, temperature=T)
     except (ValueError, OSError) as err:    # a material file missing or wrong: an input
         raise UsageError(str(err).strip('"')) from None
+    folder_of = {}
+    for name in names:   # each tissue its own results folder: one would resume the other's
+        if folder_name(name) in folder_of:
+            raise UsageError(f"tissues {folder_of[folder_name(name)]} and {name} would share "
+                             f"the results folder {folder_name(name)}: give each once, and "
+                             "data files of different names")
+        folder_of[folder_name(name)] = name
     centres = {name: _centres(name, p) for name in names}   # bad names stop before any run
+    for name in names:       # ... and so do cell centres that cannot be built into walls
+        try:
+            mfc_tissue.walls(centres[name], p)
+        except ValueError as err:
+            raise UsageError(f"{name}: {err}") from None
     with folders.claim(args.out, "mfc", args.resume) as out:
         rows = run(out, names, centres, p, levels, args)
     print_table(rows)

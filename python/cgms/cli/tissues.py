@@ -110,7 +110,7 @@ def tissue_in_folder(args, kind, resume=False):
     commands on one tissue; everything is checked before the folder is made."""
     mat_file, mat = material_of(args)
     t = chosen_tissue(args, mat)
-    with folders.claim(args.out, kind, resume) as out:
+    with folders.claim(args.out, kind, resume, resumable=hasattr(args, "resume")) as out:
         yield SimpleNamespace(out=out, data=write_tissue(out, t, mat), tissue=t,
                               mat_file=mat_file, mat=mat, n=len(t["xy"]),
                               diameters=t["diameters"] is not None)

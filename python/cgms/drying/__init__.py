@@ -48,7 +48,7 @@ PARAM_RULES = {
     "D_energy": (lambda v: v >= 0, ">= 0 (J/mol)"),
     "D_moisture": (lambda v: True, "a number"),
     "GAB_Xm": (lambda v: v > 0, "positive"),
-    "GAB_C": (lambda v: v > 0, "positive"),
+    "GAB_C": (lambda v: v > 1, "above 1 (as fix cgms/transport requires)"),
     "GAB_K": (lambda v: 0 < v < 1, "in (0, 1): the isotherm must stay finite up to aw = 1"),
 }
 
@@ -89,6 +89,9 @@ def read_params(name="apple-drying"):
             raise ValueError(f"{path} line {lineno}: expected 'name value', got {raw.strip()!r}")
         if words[0] in params:
             raise ValueError(f"{path} line {lineno}: {words[0]} given twice")
+        if words[0] not in PARAM_RULES:   # a misspelt name would be dropped unread
+            raise ValueError(f"{path} line {lineno}: unknown parameter {words[0]!r} (known: "
+                             f"{' '.join(PARAM_RULES)})")
         try:
             params[words[0]] = float(words[1])
         except ValueError:
@@ -251,6 +254,15 @@ OUT = dict(t_s=0, t_h=1, ratio=2, rate=3, out_face=4, out_edge=5, balance=6, sur
            core=8, T_product=10, dt_next=11, halved=15)
 
 
+class TransportError(RuntimeError):
+    """A stop of ``fix cgms/transport`` (its whole ERROR line): an input the moisture
+    transport cannot take, or a step it cannot solve."""
+
+    def __init__(self, line):
+        super().__init__(f"the moisture transport stopped: {line}")
+        self.line = line
+
+
 class Transport:
     """``fix cgms/transport`` (the moisture engine, doc/fix_cgms_transport.rst) in a
     LAMMPS instance: the mechanics' own (``lmp``), or, for a frozen shape, one of its own
@@ -262,7 +274,7 @@ class Transport:
 
     def __init__(self, xy, params_file, keywords, lmp=None, log="none"):
         self.own = lmp is None
-        self.file, self.keywords = params_file, keywords
+        self.file, self.keywords, self.log = params_file, keywords, log
         self.cutoff = model.CUTOFF_LJ * morphology.spacing(xy)
         if self.own:
             self.lmp = run.open_lammps(log=log)
@@ -294,9 +306,22 @@ class Transport:
         """The fix (again) with the neighbour cutoff of the shape ``xy``: pair_style
         cgms's factor times its median spacing, the nearest shell of the lattice."""
         self.cutoff = model.CUTOFF_LJ * morphology.spacing(xy)
-        self.lmp.command(f"fix {FIX} all cgms/transport {self.file} {self.keywords} "
-                         f"cutoff {self.cutoff!r}")
-        self.lmp.command("run 0 post no")        # its setup: the outputs of its state
+        with self._stops():
+            self.lmp.command(f"fix {FIX} all cgms/transport {self.file} {self.keywords} "
+                             f"cutoff {self.cutoff!r}")
+            self.lmp.command("run 0 post no")        # its setup: the outputs of its state
+
+    @contextmanager
+    def _stops(self):
+        """The fix's stops (LAMMPS raises a plain Exception, its message cut at about 100
+        characters) as a :class:`TransportError` with LAMMPS's whole ERROR line from the
+        log (``log``: the instance's log file)."""
+        try:
+            yield
+        except Exception as err:
+            if type(err) is not Exception and not type(err).__module__.startswith("lammps"):
+                raise
+            raise TransportError(study.lammps_reason(err, self.log)) from err
 
     def move(self, xy=None):
         """One moisture step; ``xy``: the beads' new positions (frozen transport: moved
@@ -305,7 +330,8 @@ class Transport:
             x = np.ctypeslib.as_array(self.lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)
             x[:, :2] = xy
             self.lmp.scatter_atoms("x", 1, 3, np.ctypeslib.as_ctypes(x.ravel()))
-        self.lmp.command("run 1 post no")
+        with self._stops():
+            self.lmp.command("run 1 post no")
 
     def vector(self):
         """The fix's global outputs (all 16, as doc/fix_cgms_transport.rst numbers them)."""
@@ -382,7 +408,8 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
     halved = 0
     with tempfile.TemporaryDirectory(prefix="cgms-dry-") as folder:
         engine = Transport(xy, write_params(params, folder), fix_keywords(cond, lev, hours),
-                           lmp=mechanics.lmp if mechanics else None)
+                           lmp=mechanics.lmp if mechanics else None,
+                           log=mechanics.log if mechanics else Path(folder) / "log.lammps")
         try:
             def record():
                 v = engine.vector()

@@ -85,13 +85,23 @@ def sherwood_flat_plate(reynolds, schmidt):
     return np.where(re < 5e5, lam, mixed)
 
 
+#: the Reynolds numbers the flat-plate Sherwood correlations hold for: a boundary layer
+#: needs Re >> 1, the mixed correlation ends at 1e8 (fix cgms/transport's RE_MIN, RE_MAX)
+REYNOLDS = (1.0, 1e8)
+
+
+def reynolds(t_c, velocity, length, pressure=P_ATM):
+    """Reynolds number of air at ``t_c`` (C) and ``velocity`` (m/s) over ``length`` (m)."""
+    return velocity * length / air_properties(t_c, pressure)["nu"]
+
+
 def air_coefficients(t_c, velocity, length, pressure=P_ATM):
     """Convective mass- and heat-transfer coefficients of a slice of flow length ``length``
     (m) in air at ``t_c`` and ``velocity`` (m/s): (k_c m/s, h W/(m^2 K)). The heat
     coefficient follows from k_c by the Chilton-Colburn analogy, h = k_c rho c_p Le^(2/3)
     (Incropera et al. 2007, eq. 6.92)."""
     air = air_properties(t_c, pressure)
-    re = velocity * length / air["nu"]
+    re = reynolds(t_c, velocity, length, pressure)
     kc = float(sherwood_flat_plate(re, air["Sc"])) * air["D_va"] / length
     lewis = air["Sc"] / air["Pr"]
     return kc, kc * air["rho"] * air["cp"] * lewis ** (2 / 3)

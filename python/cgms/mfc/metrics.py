@@ -9,6 +9,10 @@ cell: area (shoelace), perimeter (sum of bond lengths), area centroid, roundness
 compactness sqrt(4 A / pi) / major axis. The tissue measures A, P, EL are those of the
 CGMS beads (:func:`cgms.morphology.measures`) applied to the cell centroids, so the two
 models are measured alike.
+
+A ring that crosses itself (its walls passed through each other) or encloses no area has no
+such measures: :class:`RingError` names the cell (its shoelace area would be silently wrong,
+or its second moments not positive).
 """
 
 import math
@@ -16,6 +20,33 @@ import math
 import numpy as np
 
 from .. import morphology
+
+
+class RingError(ValueError):
+    """A cell's wall ring is not a simple polygon of positive area. ``cell`` is 1-based (the
+    molecule ID of the wall data file); ``level``, when set, the dryness it was met at."""
+
+    def __init__(self, cell, why):
+        super().__init__(f"cell {cell}'s wall ring {why}")
+        self.cell, self.why, self.level = cell, why, None
+
+
+def crossing(q):
+    """The first pair (i, j), i < j, of non-adjacent edges i -> i+1 and j -> j+1 of the
+    closed polygon ``q`` (n, 2) that cross each other properly, or None."""
+    a, b = q, np.roll(q, -1, axis=0)
+    n = len(q)
+
+    def side(p, r, t):   # sign of the turn p -> r -> t, for every pair (rows: i, columns: j)
+        return np.sign((r[:, None, 0] - p[:, None, 0]) * (t[None, :, 1] - p[:, None, 1])
+                       - (r[:, None, 1] - p[:, None, 1]) * (t[None, :, 0] - p[:, None, 0]))
+
+    # edge j's ends on either side of edge i's line, and edge i's on either side of j's
+    straddles = side(a, b, a) * side(a, b, b) < 0
+    cross = straddles & straddles.T
+    i, j = np.nonzero(np.triu(cross, 2))
+    keep = ~((i == 0) & (j == n - 1))    # the closing edge touches the first one
+    return (int(i[keep][0]), int(j[keep][0])) if keep.any() else None
 
 
 def polygons(xy, n_wall):
@@ -34,8 +65,22 @@ def cells(xy, n_wall):
                                             "compactness", "major")}
     out["centroid"] = np.empty((len(poly), 2))
     for c, q in enumerate(poly):
-        area, centroid, (sxx, syy, sxy) = morphology._polygon_moments(q)
+        if not np.all(np.isfinite(q)):
+            raise RingError(c + 1, "has a particle at a position that is not finite")
+        pair = crossing(q)
+        if pair is not None:
+            i, j = (c * n_wall + k + 1 for k in pair)   # atom IDs: consecutive along a ring
+            raise RingError(c + 1, f"crosses itself (its wall segment from particle {i} on "
+                                   f"crosses the one from particle {j} on: the walls passed "
+                                   "through each other)")
+        try:
+            area, centroid, (sxx, syy, sxy) = morphology._polygon_moments(q)
+        except ValueError:
+            raise RingError(c + 1, "encloses no positive area (collapsed or turned "
+                                   "inside out)") from None
         lam = np.linalg.eigvalsh(np.array([[sxx, sxy], [sxy, syy]]))
+        if not lam[0] > 0:
+            raise RingError(c + 1, "is degenerate (no extent along one axis)")
         perimeter = float(np.sum(np.hypot(*(np.roll(q, -1, axis=0) - q).T)))
         # an ellipse of semi-axes a, b has area moment pi a^3 b / 4 = A a^2 / 4
         major = 4 * math.sqrt(lam[1] / area)

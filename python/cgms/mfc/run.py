@@ -146,10 +146,15 @@ def positions(lmp):
     return x[:, :2]
 
 
-def _cells(lmp, n_wall):
-    """Area centroids and areas of the cells (the polygon measures of cgms.mfc.metrics)."""
-    from .metrics import cells
-    c = cells(positions(lmp), n_wall)
+def _cells(lmp, n_wall, s):
+    """Area centroids and areas of the cells (the polygon measures of cgms.mfc.metrics) at
+    dryness ``s``; a ring those cannot measure stops with the level it was met at."""
+    from .metrics import RingError, cells
+    try:
+        c = cells(positions(lmp), n_wall)
+    except RingError as err:
+        err.level = s
+        raise
     return c["centroid"], c["area"]
 
 
@@ -187,7 +192,7 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
     ``remaining_shift``: the mean centroid travel still to come, m)."""
     start = lmp.extract_global("ntimestep")
     lmp.commands_list(level_commands(p, s))
-    centroid, cell_area = _cells(lmp, p["n_wall"])
+    centroid, cell_area = _cells(lmp, p["n_wall"], s)
     done, now, means, finish = 0, style, [], None
     while True:
         before = lmp.extract_global("ntimestep")
@@ -198,7 +203,7 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
         # round-off along the search direction); a FIRE chunk then carries on
         stalled = fmax > ftol and lmp.extract_global("ntimestep") - before < chunk
         now = "fire" if stalled else style
-        new_centroid, new_area = _cells(lmp, p["n_wall"])
+        new_centroid, new_area = _cells(lmp, p["n_wall"], s)
         shifts = np.hypot(*(new_centroid - centroid).T)
         moved = float(shifts.max())
         means.append(float(shifts.mean()))
@@ -219,7 +224,7 @@ def relax(lmp, p, s, ftol=DEFAULTS["ftol"], shift=DEFAULTS["shift"], area=DEFAUL
                 if fmax <= ftol or finish["attempts"] == attempts:
                     break
             steady = fmax <= ftol
-            new_centroid, new_area = _cells(lmp, p["n_wall"])
+            new_centroid, new_area = _cells(lmp, p["n_wall"], s)
             shifts = np.hypot(*(new_centroid - centroid).T)
             moved = float(shifts.max())
             means[-1] += float(shifts.mean())

@@ -51,7 +51,10 @@ def glue_fresh_lamella(out, centres, p):
     resume. Returns the data file and the rest lengths."""
     data, table = out / "lamella.data", out / "lamella.txt"
     if data.exists() and table.exists():
-        return data, np.loadtxt(table, ndmin=2).reshape(-1, 2)[:, 1]   # one cell: none
+        # one cell: no bond, an empty table (np.loadtxt warns on it)
+        rows = [line.split() for line in table.read_text().splitlines()
+                if line.strip() and not line.startswith("#")]
+        return data, np.array([float(r[1]) for r in rows])
     xy = morphology.read_dump(out / f"walls.{level_name(1.0)}.dump")[-1]["xy"]   # id order
     w = mfc_tissue.walls(centres, p)
     pairs, types, rest = mfc_tissue.fresh_lamella(xy, w["cell"], p)
@@ -110,11 +113,18 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
                 lmp.commands_list(mfc_run.setup_commands(source.resolve(), p, rest=rest))
             else:
                 lmp.command(f"log {log.resolve()}")
-            report = mfc_run.ramp(lmp, p, previous, s, **solver)
-            xy = mfc_run.positions(lmp)
-            summary, cell = mfc_metrics.summary(xy, p["n_wall"], fresh)
-            if fresh is None:   # the fresh state is its own reference: A/A0 = 1 ...
-                summary, cell = mfc_metrics.summary(xy, p["n_wall"], summary)
+            try:
+                report = mfc_run.ramp(lmp, p, previous, s, **solver)
+                xy = mfc_run.positions(lmp)
+                summary, cell = mfc_metrics.summary(xy, p["n_wall"], fresh)
+                if fresh is None:   # the fresh state is its own reference: A/A0 = 1 ...
+                    summary, cell = mfc_metrics.summary(xy, p["n_wall"], summary)
+            except mfc_metrics.RingError as err:
+                dump = out / log.name.replace("log.", "walls.failed.", 1).replace(
+                    ".lammps", ".dump")
+                lmp.command(f"write_dump all custom {dump.resolve()} id mol type x y "
+                            "modify sort id")
+                raise RingFailure(err, s, previous, results, dump) from None
             summary.update(report, seconds=time.perf_counter() - start, particles=len(xy))
             positions.write_centroids(out / f"centroids.{name}.txt", cell["centroid"],
                                       comment=f"MFC cell centroids at s = X/X0 = {s:g}",
@@ -137,6 +147,26 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
         if lmp is not None:
             lmp.close()
     return results
+
+
+class RingFailure(RuntimeError):
+    """A level stopped on a wall ring the cell measures cannot take
+    (:class:`cgms.mfc.metrics.RingError`): what, where, what is kept and what to try."""
+
+    def __init__(self, err, s, previous, results, dump):
+        where = f"s = {s:g}" + ("" if err.level in (None, s) else
+                                f" (on the ramp from s = {previous:g}, at s = {err.level:g})")
+        done = ", ".join(f"{r['s']:g}" for r in results)
+        kept = f"the levels finished (s = {done}) stay in {dump.parent}" if results else (
+            "no level finished")
+        cure = ("--resume with --dryness holding a level between s = "
+                f"{previous:g} and {s:g} continues from the last finished level; a gentler "
+                "ramp (--stage) or another --seed needs a new --out; the fine model may not "
+                "reach this dryness (doc/mfc.md)" if previous is not None else
+                "check the cell centres: the built walls of adjacent cells must not overlap")
+        super().__init__(f"{where}: {err}, so the level has no cell measures; {kept}; the "
+                         f"walls where it stopped are in {dump.name} (OVITO); {cure}")
+        self.ring = err
 
 
 COLUMNS = ("s", "A/A0", "P/P0", "EL/EL0", "cell_area/A0", "cell_perimeter/P0",
