@@ -11,7 +11,8 @@ none with more than 9 numbers per bead:
 
 - ``shaped_F``: ``d2_shaped_F`` 4, F11 F12 F21 F22, the state;
 - ``shaped_nb``: ``i2_shaped_nb`` NB, the IDs of its fresh neighbours (0 fills the row),
-  ``i_shaped_nwall`` its number of walls, ``i_shaped_boundary`` 1 for a cell with a free
+  ``i_shaped_id`` its own ID (the pair refuses a tissue whose IDs were renumbered, e.g. by
+  ``delete_atoms`` with ``compress yes``), ``i_shaped_nwall`` its number of walls, ``i_shaped_boundary`` 1 for a cell with a free
   wall (ghost points), ``d_shaped_area0`` its fresh polygon area (m^2);
 - ``shaped_bx``, ``shaped_by``: ``d2_shaped_bondx``/``bondy`` NB, the fresh bond vectors
   x0_k - x0_i (m), in the order of the IDs;
@@ -62,8 +63,9 @@ def _fixes(b):
     """[(fix ID, property/atom arguments, [per-bead column arrays])]."""
     NB, NW = b["nb"].shape[1], b["wallx"].shape[1]
     return [("shaped_F", "d2_shaped_F 4", None),
-            ("shaped_nb", f"i2_shaped_nb {NB} i_shaped_nwall i_shaped_boundary d_shaped_area0",
-             [b["nb"], b["nwall"][:, None], b["boundary"][:, None], b["area0"][:, None]]),
+            ("shaped_nb", f"i2_shaped_nb {NB} i_shaped_id i_shaped_nwall i_shaped_boundary "
+             "d_shaped_area0", [b["nb"], np.arange(1, len(b["nb"]) + 1)[:, None],
+                                b["nwall"][:, None], b["boundary"][:, None], b["area0"][:, None]]),
             ("shaped_bx", f"d2_shaped_bondx {NB}", [b["bondx"]]),
             ("shaped_by", f"d2_shaped_bondy {NB}", [b["bondy"]]),
             ("shaped_wx", f"d2_shaped_wallx {NW}", [b["wallx"]]),

@@ -31,13 +31,13 @@ namespace CGMS {
       double soft = 0.002;              // buckled stiffness / (EA / r)
       double beta_a = 1.0;              // rim bonds: f = beta_a + beta_b ln s
       double beta_b = 0.04;
-      double lamella = 0.391;       // strip width along each wall / d_p
-      double kg_ratio = 1.0;        // k_g in units of EA / x_ref
-      double void_frac = 0.063;     // intercellular space of a turgid cell / polygon
-      double void_onset = 0.5;      // the void opens over mean strain 0 .. onset x eps
-      double smooth = 0.25;         // contour joined C1 over +-smooth eps r
-      double iso = 1.0;             // bond target (1 - iso) F + iso sqrt(det F) R(F)
-      int contour = 1;              // strip along max(chord, rest) (1) or the chord (0)
+      double lamella = 0.391;      // strip width along each wall / d_p
+      double kg_ratio = 1.0;       // k_g in units of EA / x_ref
+      double void_frac = 0.063;    // intercellular space of a turgid cell / polygon
+      double void_onset = 0.5;     // the void opens over mean strain 0 .. onset x eps
+      double smooth = 0.25;        // contour joined C1 over +-smooth eps r
+      double iso = 1.0;            // bond target (1 - iso) F + iso sqrt(det F) R(F)
+      int contour = 1;             // strip along max(chord, rest) (1) or the chord (0)
     };
 
     // the fluid's energy at fixed mass, E = -H int_{A_f}^{A} P dA' of the Tait law
@@ -56,8 +56,7 @@ namespace CGMS {
     // one wall of chord l and rest length r: EA/(2r) (l - r)^2 while stretched or
     // mildly compressed; shorter than r - buckle r / EA it buckles and pushes with buckle
     // plus soft EA/r times the further shortening (shaped.wall_energy); de = dE/dl
-    inline double wall_energy(double l, double r, double EA, double buckle, double soft,
-                              double &de)
+    inline double wall_energy(double l, double r, double EA, double buckle, double soft, double &de)
     {
       const double k = EA / r;
       const double lb = r - buckle / k;
@@ -67,7 +66,8 @@ namespace CGMS {
       }
       const double shortening = lb - l;
       de = -buckle - soft * k * shortening;
-      return 0.5 * buckle * buckle / k + buckle * shortening + 0.5 * soft * k * shortening * shortening;
+      return 0.5 * buckle * buckle / k + buckle * shortening +
+          0.5 * soft * k * shortening * shortening;
     }
 
     // a wall's length along its folds (the strip's length): the chord, or with contour
@@ -101,8 +101,8 @@ namespace CGMS {
     // the fresh wall strain eps of the built tissue from one interior cell of polygon
     // area D and perimeter L: H P_f (2 D (1 - void) - w L) = EA eps L (virtual work of a
     // uniform dilation; shaped_tensor._fresh_with_void, shaped.fresh_balance_strain)
-    inline double fresh_strain(double H, double P_f, double D, double L, double void_frac,
-                               double w, double EA)
+    inline double fresh_strain(double H, double P_f, double D, double L, double void_frac, double w,
+                               double EA)
     {
       return H * P_f * (2.0 * D * (1.0 - void_frac) - w * L) / L / EA;
     }
@@ -143,8 +143,7 @@ namespace CGMS {
         const double *dM[4] = {DP, DQ, DQ, DP};
         const double sign[4] = {1.0, -1.0, 1.0, 1.0};
         for (int m = 0; m < 4; m++)
-          for (int k = 0; k < 4; k++)
-            dG[m][k] += iso * (M[m] * gphi[k] + phi * sign[m] * dM[m][k]);
+          for (int k = 0; k < 4; k++) dG[m][k] += iso * (M[m] * gphi[k] + phi * sign[m] * dM[m][k]);
       }
       return true;
     }

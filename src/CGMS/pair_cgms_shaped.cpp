@@ -33,10 +33,10 @@ static const char *const PROPERTY_HINT =
 /* ---------------------------------------------------------------------- */
 
 PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
-    Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0),
-    dof_scale(1.0), iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), inwall(-1), iarea(-1), iboundary(-1),
-    iforce(-1), nb_max(0), wall_max(0), target(nullptr), nmax_target(0), min_x(nullptr),
-    min_f(nullptr), nmax_min(0)
+    Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
+    iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
+    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), target(nullptr), nmax_target(0),
+    min_x(nullptr), min_f(nullptr), nmax_min(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -85,22 +85,37 @@ void PairCGMSShaped::settings(int narg, char **arg)
       return v;
     };
     const double inf = HUGE_VAL;
-    if (key == "dryness") s = number(0.0, true, 1.0);
-    else if (key == "wall_EA") p.wall_EA = number(0.0, true, inf);
-    else if (key == "buckle") p.buckle = number(0.0, false, inf);
-    else if (key == "soft") p.soft = number(0.0, false, inf);
-    else if (key == "beta_a") p.beta_a = number(0.0, true, inf);
-    else if (key == "beta_b") p.beta_b = utils::numeric(FLERR, value, false, lmp);
-    else if (key == "lamella") p.lamella = number(0.0, false, inf);
-    else if (key == "kg_ratio") p.kg_ratio = number(0.0, false, inf);
-    else if (key == "void") p.void_frac = number(0.0, false, 0.99);
-    else if (key == "void_onset") p.void_onset = number(0.0, true, inf);
-    else if (key == "smooth") p.smooth = number(0.0, true, inf);
-    else if (key == "iso") p.iso = number(0.0, false, 1.0);
-    else if (key == "reach") r = number(0.0, true, inf);
+    if (key == "dryness")
+      s = number(0.0, true, 1.0);
+    else if (key == "wall_EA")
+      p.wall_EA = number(0.0, true, inf);
+    else if (key == "buckle")
+      p.buckle = number(0.0, false, inf);
+    else if (key == "soft")
+      p.soft = number(0.0, false, inf);
+    else if (key == "beta_a")
+      p.beta_a = number(0.0, true, inf);
+    else if (key == "beta_b")
+      p.beta_b = utils::numeric(FLERR, value, false, lmp);
+    else if (key == "lamella")
+      p.lamella = number(0.0, false, inf);
+    else if (key == "kg_ratio")
+      p.kg_ratio = number(0.0, false, inf);
+    else if (key == "void")
+      p.void_frac = number(0.0, false, 0.99);
+    else if (key == "void_onset")
+      p.void_onset = number(0.0, true, inf);
+    else if (key == "smooth")
+      p.smooth = number(0.0, true, inf);
+    else if (key == "iso")
+      p.iso = number(0.0, false, 1.0);
+    else if (key == "reach")
+      r = number(0.0, true, inf);
     else if (key == "strip") {
-      if (strcmp(value, "contour") == 0) p.contour = 1;
-      else if (strcmp(value, "chord") == 0) p.contour = 0;
+      if (strcmp(value, "contour") == 0)
+        p.contour = 1;
+      else if (strcmp(value, "chord") == 0)
+        p.contour = 0;
       else
         error->all(FLERR, "Pair style cgms/shaped strip must be contour or chord, not '{}'", value);
     } else
@@ -147,9 +162,11 @@ void PairCGMSShaped::add_force_property()
 {
   int flag = -1, cols = -1;
   iforce = atom->find_custom("shaped_fF", flag, cols);
-  if (iforce < 0) iforce = atom->add_custom("shaped_fF", 1, 4);
+  if (iforce < 0)
+    iforce = atom->add_custom("shaped_fF", 1, 4);
   else if (flag != 1 || cols != 4)
-    error->all(FLERR, "Pair style cgms/shaped: the per-atom property shaped_fF is its own output "
+    error->all(FLERR,
+               "Pair style cgms/shaped: the per-atom property shaped_fF is its own output "
                "(d2_shaped_fF, 4 columns); do not define it otherwise");
 }
 
@@ -170,6 +187,7 @@ void PairCGMSShaped::find_properties()
                            {"shaped_bondy", 1, 1, &ibondy, &ncols_bondy},
                            {"shaped_wallx", 1, 1, &iwallx, &ncols_wally},
                            {"shaped_wally", 1, 1, &iwally, &wall_max},
+                           {"shaped_id", 0, 0, &iid, &dummy},
                            {"shaped_nwall", 0, 0, &inwall, &dummy},
                            {"shaped_area0", 1, 0, &iarea, &dummy},
                            {"shaped_boundary", 0, 0, &iboundary, &dummy}};
@@ -179,25 +197,37 @@ void PairCGMSShaped::find_properties()
     const std::string full =
         fmt::format("{}{}_{}", w.is_double ? "d" : "i", w.array ? "2" : "", w.name);
     if (*w.index < 0)
-      error->all(FLERR, "Pair style cgms/shaped needs the per-atom property {}, which is not "
-                 "defined: {}", full, PROPERTY_HINT);
+      error->all(FLERR,
+                 "Pair style cgms/shaped needs the per-atom property {}, which is not "
+                 "defined: {}",
+                 full, PROPERTY_HINT);
     if (flag != w.is_double || (cols > 0) != (w.array != 0))
-      error->all(FLERR, "Pair style cgms/shaped: the per-atom property {} has the wrong kind "
-                 "(it must be {}); {}", w.name, full, PROPERTY_HINT);
+      error->all(FLERR,
+                 "Pair style cgms/shaped: the per-atom property {} has the wrong kind "
+                 "(it must be {}); {}",
+                 w.name, full, PROPERTY_HINT);
     if (w.cols == &ncols_bondy && *w.cols && cols != *w.cols)
-      error->all(FLERR, "Pair style cgms/shaped: d2_shaped_bondx and d2_shaped_bondy must have "
-                 "the same number of columns; {}", PROPERTY_HINT);
+      error->all(FLERR,
+                 "Pair style cgms/shaped: d2_shaped_bondx and d2_shaped_bondy must have "
+                 "the same number of columns; {}",
+                 PROPERTY_HINT);
     if (w.cols == &wall_max && cols != ncols_wally)
-      error->all(FLERR, "Pair style cgms/shaped: d2_shaped_wallx and d2_shaped_wally must have "
-                 "the same number of columns; {}", PROPERTY_HINT);
+      error->all(FLERR,
+                 "Pair style cgms/shaped: d2_shaped_wallx and d2_shaped_wally must have "
+                 "the same number of columns; {}",
+                 PROPERTY_HINT);
     *w.cols = cols;
   }
   if (ncols_F != 4)
-    error->all(FLERR, "Pair style cgms/shaped: d2_shaped_F must have 4 columns (F11 F12 F21 F22), "
-               "not {}", ncols_F);
+    error->all(FLERR,
+               "Pair style cgms/shaped: d2_shaped_F must have 4 columns (F11 F12 F21 F22), "
+               "not {}",
+               ncols_F);
   if (ncols_bondy != nb_max)
-    error->all(FLERR, "Pair style cgms/shaped: d2_shaped_bondx and d2_shaped_bondy must have as "
-               "many columns as i2_shaped_nb ({}), not {}", nb_max, ncols_bondy);
+    error->all(FLERR,
+               "Pair style cgms/shaped: d2_shaped_bondx and d2_shaped_bondy must have as "
+               "many columns as i2_shaped_nb ({}), not {}",
+               nb_max, ncols_bondy);
 
   add_force_property();
   scratch.resize(6 * (size_t) wall_max);
@@ -231,13 +261,15 @@ void PairCGMSShaped::fresh_strain_and_bond_length()
   int bad_all;
   MPI_Allreduce(&bad, &bad_all, 1, MPI_INT, MPI_MAX, world);
   if (bad_all)
-    error->all(FLERR, "Pair style cgms/shaped: a bead has fewer than 3 walls, more walls than "
+    error->all(FLERR,
+               "Pair style cgms/shaped: a bead has fewer than 3 walls, more walls than "
                "d2_shaped_wall holds, or a fresh polygon area that is not positive; {}",
                PROPERTY_HINT);
   MPI_Allreduce(&first, &first_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
   MPI_Allreduce(&longest, &bond_max, 1, MPI_DOUBLE, MPI_MAX, world);
   if (first_all == MAXTAGINT)
-    error->all(FLERR, "Pair style cgms/shaped: the tissue has no interior cell (every bead is on "
+    error->all(FLERR,
+               "Pair style cgms/shaped: the tissue has no interior cell (every bead is on "
                "the boundary), so the fresh wall strain that balances turgor is undefined");
   if (!(bond_max > 0.0))
     error->all(FLERR, "Pair style cgms/shaped: no bead has a fresh neighbour; {}", PROPERTY_HINT);
@@ -252,8 +284,10 @@ void PairCGMSShaped::fresh_strain_and_bond_length()
   }
   MPI_Allreduce(&mine, &eps, 1, MPI_DOUBLE, MPI_SUM, world);
   if (!(eps > -1.0))
-    error->all(FLERR, "Pair style cgms/shaped: the fresh wall strain {} is not above -1 (lamella "
-               "or void too large for these cells)", eps);
+    error->all(FLERR,
+               "Pair style cgms/shaped: the fresh wall strain {} is not above -1 (lamella "
+               "or void too large for these cells)",
+               eps);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -263,15 +297,18 @@ void PairCGMSShaped::init_style()
   if (domain->dimension != 2)
     error->all(FLERR, "Pair style cgms/shaped is two-dimensional: use 'dimension 2'");
   if (atom->map_style == Atom::MAP_NONE)
-    error->all(FLERR, "Pair style cgms/shaped finds the fresh neighbours by ID: add 'atom_modify "
+    error->all(FLERR,
+               "Pair style cgms/shaped finds the fresh neighbours by ID: add 'atom_modify "
                "map array' before read_data");
   if (update->whichflag == 1 && update->nsteps > 0)
-    error->all(FLERR, "Pair style cgms/shaped has no integrator for the shape tensors F: 'run' "
+    error->all(FLERR,
+               "Pair style cgms/shaped has no integrator for the shape tensors F: 'run' "
                "only with 0 steps (forces and energy); find steady states with 'minimize' and "
                "min_style cg or sd");
   if (update->whichflag == 2 &&
       !(strcmp(update->minimize_style, "cg") == 0 || strcmp(update->minimize_style, "sd") == 0))
-    error->all(FLERR, "Pair style cgms/shaped: min_style {} does not move the shape tensors F "
+    error->all(FLERR,
+               "Pair style cgms/shaped: min_style {} does not move the shape tensors F "
                "(per-atom degrees of freedom); use min_style cg or sd",
                update->minimize_style);
   find_properties();
@@ -304,6 +341,18 @@ void PairCGMSShaped::check_topology()
   const tagint *tag = atom->tag;
   double **x = atom->x;
   int **nb = atom->iarray[inb];
+  const int *fresh_id = atom->ivector[iid];
+  tagint renamed = MAXTAGINT, renamed_all;
+  for (int i = 0; i < nlocal; i++)
+    if (fresh_id[i] != tag[i] && tag[i] < renamed) renamed = tag[i];
+  MPI_Allreduce(&renamed, &renamed_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (renamed_all != MAXTAGINT)
+    error->all(FLERR,
+               "Pair style cgms/shaped: the atom IDs changed since the tissue was written "
+               "(bead {} was written with another ID), so the fresh neighbours' IDs name other "
+               "beads; use 'delete_atoms ... compress no' and no reset_atoms id",
+               renamed_all);
+
   tagint missing[2] = {0, 0}, far_pair[2] = {0, 0};
   double longest = 0.0;
   for (int i = 0; i < nlocal; i++)
@@ -330,14 +379,16 @@ void PairCGMSShaped::check_topology()
     int owned = j >= 0 && j < nlocal, exists;
     MPI_Allreduce(&owned, &exists, 1, MPI_INT, MPI_MAX, world);
     if (!exists)
-      error->all(FLERR, "Pair style cgms/shaped: bead {}'s fresh neighbour {} no longer exists "
+      error->all(FLERR,
+                 "Pair style cgms/shaped: bead {}'s fresh neighbour {} no longer exists "
                  "(deleted?): the shaped model's bonds are fixed at the fresh tissue; delete "
                  "beads before writing its data file (cgms.shaped_data.write_data), not after",
                  who_all, k_all);
-    error->all(FLERR, "Pair style cgms/shaped: bead {}'s fresh neighbour {} is not within this "
+    error->all(FLERR,
+               "Pair style cgms/shaped: bead {}'s fresh neighbour {} is not within this "
                "rank's ghost atoms: the ghost cutoff {:.6g} m is shorter than their bond; raise "
-               "the pair's reach (now {}) or 'comm_modify cutoff'", who_all, k_all,
-               comm->get_comm_cutoff(), reach);
+               "the pair's reach (now {}) or 'comm_modify cutoff'",
+               who_all, k_all, comm->get_comm_cutoff(), reach);
   }
   double longest_all;
   MPI_Allreduce(&longest, &longest_all, 1, MPI_DOUBLE, MPI_MAX, world);
@@ -345,10 +396,11 @@ void PairCGMSShaped::check_topology()
     tagint pair[2] = {0, 0}, pair_all[2];
     if (longest == longest_all) pair[0] = far_pair[0], pair[1] = far_pair[1];
     MPI_Allreduce(pair, pair_all, 2, MPI_LMP_TAGINT, MPI_MAX, world);
-    error->all(FLERR, "Pair style cgms/shaped: the fresh bond {}-{} is {:.6g} m long, beyond the "
+    error->all(FLERR,
+               "Pair style cgms/shaped: the fresh bond {}-{} is {:.6g} m long, beyond the "
                "pair's cutoff {:.6g} m (reach {} x the longest fresh bond {:.6g} m), so the ghost "
-               "atoms may not hold it; raise reach", pair_all[0], pair_all[1], longest_all,
-               cut_global, reach, bond_max);
+               "atoms may not hold it; raise reach",
+               pair_all[0], pair_all[1], longest_all, cut_global, reach, bond_max);
   }
 }
 

@@ -58,7 +58,7 @@ class PairCGMSShaped : public Pair {
   double dof_scale;     // the minimiser moves dof_scale F (m): a power of 2 near x_ref
 
   // indices of the per-atom custom properties (Atom::find_custom)
-  int iF, inb, ibondx, ibondy, iwallx, iwally, inwall, iarea, iboundary, iforce;
+  int iF, inb, ibondx, ibondy, iwallx, iwally, iid, inwall, iarea, iboundary, iforce;
   int nb_max, wall_max;    // columns of the neighbour and wall arrays
 
   double *target;    // G(F) of every local and ghost bead (4 per bead)
