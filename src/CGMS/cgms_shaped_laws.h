@@ -41,16 +41,17 @@ namespace CGMS {
     };
 
     // the fluid's energy at fixed mass, E = -H int_{A_f}^{A} P dA' of the Tait law
-    // P = P_T + K [(A_f / A)^7 - 1] (shaped.fluid_energy); dE/dA = -H P
+    // P = P_T + K [(A_f / A)^7 - 1] (shaped.fluid_energy, there written with A_f^7 (A^-6 -
+    // A_f^-6) = A_f (q^6 - 1), q = A_f / A: the same number to rounding, without pow);
+    // dE/dA = -H P
     inline double fluid_energy(double A, double A_f, double P_T, double K, double H)
     {
-      return -H *
-          ((P_T - K) * (A - A_f) -
-           K / 6.0 * std::pow(A_f, 7.0) * (std::pow(A, -6.0) - std::pow(A_f, -6.0)));
+      const double q = A_f / A, q2 = q * q;
+      return -H * ((P_T - K) * (A - A_f) - K / 6.0 * A_f * (q2 * q2 * q2 - 1.0));
     }
     inline double fluid_pressure(double A, double A_f, double P_T, double K)
     {
-      return tait_pressure(std::pow(A_f / A, 7.0), P_T, K);
+      return tait_pressure(pow7(A_f / A), P_T, K);
     }
 
     // one wall of chord l and rest length r: EA/(2r) (l - r)^2 while stretched or
@@ -127,7 +128,7 @@ namespace CGMS {
       const double J = a * d - b * c;
       if (!(J > 0.0)) return false;
       const double p = a + d, q = c - b;
-      const double r = std::hypot(p, q);
+      const double r = std::sqrt(p * p + q * q);
       const double phi = std::sqrt(J) / r;
       const double M[4] = {p, -q, q, p};
       for (int m = 0; m < 4; m++) G[m] += iso * phi * M[m];

@@ -278,7 +278,7 @@ void PairCGMSShaped::fresh_strain_and_bond_length()
   const int i = atom->map(first_all);
   if (i >= 0 && i < nlocal) {
     double L = 0.0;
-    for (int e = 0; e < nwall[i]; e++) L += std::hypot(wallx[i][e], wally[i][e]);
+    for (int e = 0; e < nwall[i]; e++) L += std::sqrt(wallx[i][e] * wallx[i][e] + wally[i][e] * wally[i][e]);
     mine = CGMS::Shaped::fresh_strain(mat.height, mat.P_f, atom->dvector[iarea][i], L,
                                       par.void_frac, par.lamella * mat.pectin, par.wall_EA);
   }
@@ -426,12 +426,12 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   double L0 = 0.0, rest_sum = 0.0, S = 0.0, sum_m = 0.0;
   for (int e = 0; e < nw; e++) {
     const double dx = d0x[e], dy = d0y[e];
-    const double chord0 = std::hypot(dx, dy);
+    const double chord0 = std::sqrt(dx * dx + dy * dy);
     L0 += chord0;
     rest[e] = chord0 / (1.0 + eps) * contraction;
     rest_sum += rest[e];
     const double c0 = F[0] * dx + F[1] * dy, c1 = F[2] * dx + F[3] * dy;
-    len[e] = std::hypot(c0, c1);
+    len[e] = std::sqrt(c0 * c0 + c1 * c1);
     u0[e] = c0 / len[e];
     u1[e] = c1 / len[e];
     S += len[e];
