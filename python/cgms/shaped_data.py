@@ -59,6 +59,48 @@ def per_bead(geo):
     return out
 
 
+def per_bead_local(xy, spacing, cutoff=None):
+    """:func:`per_bead` of the tissue built at ``xy`` (n, 2) without its (n, n) arrays:
+    each bead's ring, walls and fresh polygon from :func:`cgms.shaped.topology` and
+    :func:`cgms.shaped.junction_map` on the patch of the bead and its neighbours (its ring
+    needs only their positions and which of them neighbour each other), so that a tissue
+    of 10^4-10^5 beads fits in memory. The same numbers as :func:`per_bead` to rounding (a patch sums a junction's
+    terms in another order)."""
+    from scipy.spatial import cKDTree
+
+    from . import shaped
+    xy = np.asarray(xy, float)
+    cutoff = shaped.CUTOFF if cutoff is None else cutoff
+    tree = cKDTree(xy)
+    rows = []
+    for i in range(len(xy)):
+        patch = np.array(sorted(tree.query_ball_point(xy[i], 1.01 * cutoff * spacing)))
+        topo = shaped.topology(xy[patch], spacing, cutoff)
+        M, cell, ja, jb, ghost = shaped.junction_map(topo, 1.0)
+        me = int(np.flatnonzero(patch == i)[0])
+        x = xy[patch]
+        J = (M @ x.ravel()).reshape(-1, 2)
+        e = np.flatnonzero(cell == me)
+        a, b = J[ja[e]] - x[me], J[jb[e]] - x[me]
+        k = np.flatnonzero(topo["neighbours"][me])
+        rows.append(dict(nb=patch[k] + 1, bond=xy[patch[k]] - xy[i], wall=b - a,
+                         area0=0.5 * np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]),
+                         boundary=int(ghost[e].any())))
+    n, NB = len(xy), max(len(r["nb"]) for r in rows)
+    NW = max(len(r["wall"]) for r in rows)
+    out = dict(nb=np.zeros((n, NB), dtype=np.int64), bondx=np.zeros((n, NB)),
+               bondy=np.zeros((n, NB)), wallx=np.zeros((n, NW)), wally=np.zeros((n, NW)),
+               nwall=np.array([len(r["wall"]) for r in rows]),
+               area0=np.array([r["area0"] for r in rows]),
+               boundary=np.array([r["boundary"] for r in rows]))
+    for i, r in enumerate(rows):
+        m, w = len(r["nb"]), len(r["wall"])
+        out["nb"][i, :m] = r["nb"]
+        out["bondx"][i, :m], out["bondy"][i, :m] = r["bond"].T
+        out["wallx"][i, :w], out["wally"][i, :w] = r["wall"].T
+    return out
+
+
 def _fixes(b):
     """[(fix ID, property/atom arguments, [per-bead column arrays])]."""
     NB, NW = b["nb"].shape[1], b["wallx"].shape[1]
@@ -73,9 +115,10 @@ def _fixes(b):
 
 
 def fix_command(geo):
-    """The ``fix property/atom`` lines that define the properties (before read_data)."""
-    return "\n".join(f"fix {fid} all property/atom {args}"
-                     for fid, args, _ in _fixes(per_bead(geo)))
+    """The ``fix property/atom`` lines that define the properties (before read_data);
+    ``geo`` a built tissue or its :func:`per_bead` arrays."""
+    b = geo if "wallx" in geo else per_bead(geo)
+    return "\n".join(f"fix {fid} all property/atom {args}" for fid, args, _ in _fixes(b))
 
 
 def read_command(path):
@@ -96,19 +139,20 @@ def pair_style(s, params=None):
 
 
 def write_data(path, geo, z, margin=None, title="CGMS shaped tissue", overwrite=False):
-    """Write the tissue ``geo`` in state ``z`` (:mod:`cgms.shaped_tensor`'s [x, F]) as a
+    """Write the tissue ``geo`` (built, or its :func:`per_bead` arrays with "n") in state
+    ``z`` (:mod:`cgms.shaped_tensor`'s [x, F]) as a
     LAMMPS data file for ``atom_style atomic`` with the ``shaped`` section (read it with
     :func:`fix_command` and :func:`read_command`). Every number is written so that it reads
     back to the same double. The box leaves ``margin`` (default 4 x the longest fresh bond)
     around the tissue. Returns the number of beads."""
-    n = geo["n"]
+    n = geo["n"] if "n" in geo else len(geo["nb"])
     z = np.asarray(z, float)
     if z.shape != (6 * n,):
         raise ValueError(f"z must hold 6 n = {6 * n} numbers, not {z.shape}")
     if not np.all(np.isfinite(z)):
         raise ValueError("z holds non-finite numbers")
     x, F = z[:2 * n].reshape(n, 2), z[2 * n:].reshape(n, 4)
-    b = per_bead(geo)
+    b = geo if "wallx" in geo else per_bead(geo)
     if margin is None:
         margin = 4 * max(np.abs(b["bondx"]).max(), np.abs(b["bondy"]).max())
     lo, hi = x.min(axis=0) - margin, x.max(axis=0) + margin

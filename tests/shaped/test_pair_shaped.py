@@ -81,3 +81,16 @@ def test_every_branch_matches_the_oracle(tmp_path):
     assert np.any((psi > 0) & (psi < 1))
     assert np.any(np.abs(chord - lev["rest"]) < lev["delta"])
     compare(tmp_path, z, lev, geo, 0.95, params, extra="reach 2")
+
+
+def test_the_local_builder_gives_the_prototypes_data():
+    """cgms.shaped_data.per_bead_local (patches, for large tissues) against per_bead (the
+    prototype's whole-tissue build), on the calibration tissue and an irregular one."""
+    from cgms import tissue
+    jittered = tissue.rectangle(1e-3, 0.8e-3, sl.L)
+    jittered = jittered + np.random.default_rng(2).uniform(-0.1, 0.1, jittered.shape) * sl.L
+    for xy in (sl.calibration_tissue(sl.BEST)[0], jittered):
+        geo = st.build(xy, sl.MAT, sl.BEST)
+        whole, local = shaped_data.per_bead(geo), shaped_data.per_bead_local(xy, sl.L)
+        for key in whole:
+            assert np.array_equal(whole[key], local[key]), key
