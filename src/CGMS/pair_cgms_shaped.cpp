@@ -278,7 +278,8 @@ void PairCGMSShaped::fresh_strain_and_bond_length()
   const int i = atom->map(first_all);
   if (i >= 0 && i < nlocal) {
     double L = 0.0;
-    for (int e = 0; e < nwall[i]; e++) L += std::sqrt(wallx[i][e] * wallx[i][e] + wally[i][e] * wally[i][e]);
+    for (int e = 0; e < nwall[i]; e++)
+      L += std::sqrt(wallx[i][e] * wallx[i][e] + wally[i][e] * wally[i][e]);
     mine = CGMS::Shaped::fresh_strain(mat.height, mat.P_f, atom->dvector[iarea][i], L,
                                       par.void_frac, par.lamella * mat.pectin, par.wall_EA);
   }
