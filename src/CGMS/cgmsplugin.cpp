@@ -21,6 +21,7 @@
 #include "fix_mfc_pressure.h"
 #include "lammps.h"
 #include "pair_cgms.h"
+#include "pair_cgms_shaped.h"
 #include "pair_sph_taitwater_ap.h"
 #include "version.h"
 
@@ -31,6 +32,11 @@ using namespace LAMMPS_NS;
 static Pair *pair_cgms_creator(LAMMPS *lmp)
 {
   return new PairCGMS(lmp);
+}
+
+static Pair *pair_cgms_shaped_creator(LAMMPS *lmp)
+{
+  return new PairCGMSShaped(lmp);
 }
 
 static Pair *pair_sph_taitwater_ap_creator(LAMMPS *lmp)
@@ -87,6 +93,11 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
   plugin.info =
       "CGMS pair style: turgor, perimeter, damping and LJ forces between plant-cell beads";
   plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_cgms_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "cgms/shaped";
+  plugin.info = "CGMS pair style: the shaped coarse model, a bead and a shape tensor per cell";
+  plugin.creator.v1 = (lammpsplugin_factory1 *) &pair_cgms_shaped_creator;
   (*register_plugin)(&plugin, lmp);
 
   plugin.name = "sph/taitwater/ap";

@@ -147,6 +147,18 @@ def sph_setup(folder):
     return lines + ["set group all sph/rho 1000.0", "fix 2d all enforce2d"]
 
 
+def shaped_setup(folder):
+    """A 23-bead tissue of the shaped model in its fresh state (cgms.shaped_data), read
+    with its per-atom properties, as pair_cgms_shaped.rst describes."""
+    from cgms import material, shaped_data, shaped_tensor
+    mat = material.read("apple")
+    geo = shaped_tensor.build(tissue.rectangle(0.75e-3, 0.75e-3, mat["x_ref"]), mat)
+    shaped_data.write_data(folder / "shaped.data", geo, shaped_tensor.fresh_state(geo))
+    return (["units si", "dimension 2", "boundary f f p", "atom_style atomic",
+             "atom_modify map array"] + shaped_data.fix_command(geo).splitlines()
+            + [shaped_data.read_command("shaped.data"), "neighbor 1.5e-5 bin"])
+
+
 #: what a style page's variant needs besides the set-up, after its line (the example
 #: shows the style's own lines only): here, the pair coefficients a hybrid and a new
 #: pair style need for a run
@@ -170,6 +182,7 @@ PAGES = {
     "compute_cgms_atom.rst": lambda f: CGMS,
     "fix_mfc_pressure.rst": None,
     "pair_sph_taitwater_ap.rst": sph_setup,
+    "pair_cgms_shaped.rst": shaped_setup,
 }
 #: pages whose example is a Python block and a LAMMPS block run together, by their own test
 RUN_ELSEWHERE = {"fix_mfc_pressure.rst": "its Python block writes the walls its LAMMPS block "

@@ -1,0 +1,156 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_CGMS_SHAPED_LAWS_H
+#define LMP_CGMS_SHAPED_LAWS_H
+
+// The laws of the shaped coarse model with a shape tensor per cell (doc/model.md, "A
+// coarse model with cell shape", the tensor variant), one copy each: the C++ twin of
+// python/cgms/shaped.py and shaped_tensor.py. Plain inline functions of numbers; the
+// paper's laws they build on (Tait, eqn 9, the LJ radius, beta) stay in cgms_laws.h.
+// A 2x2 deformation F is stored row-major, F = (F11, F12, F21, F22) = (a, b, c, d).
+
+#include "cgms_laws.h"
+
+#include <cmath>
+
+namespace LAMMPS_NS {
+namespace CGMS {
+  namespace Shaped {
+
+    // the parameters of the shaped model that the material file does not hold
+    // (python/cgms/shaped.py and shaped_tensor.py DEFAULTS), at the best set of
+    // doc/results/shaped-results.md as defaults
+    struct Params {
+      double wall_EA = 330.0 * 6e-6;    // axial wall stiffness E t H (N)
+      double buckle = 8.6e-7;           // force at which a wall buckles (N)
+      double soft = 0.002;              // buckled stiffness / (EA / r)
+      double beta_a = 1.0;              // rim bonds: f = beta_a + beta_b ln s
+      double beta_b = 0.04;
+      double lamella = 0.391;      // strip width along each wall / d_p
+      double kg_ratio = 1.0;       // k_g in units of EA / x_ref
+      double void_frac = 0.063;    // intercellular space of a turgid cell / polygon
+      double void_onset = 0.5;     // the void opens over mean strain 0 .. onset x eps
+      double smooth = 0.25;        // contour joined C1 over +-smooth eps r
+      double iso = 1.0;            // bond target (1 - iso) F + iso sqrt(det F) R(F)
+      int contour = 1;             // strip along max(chord, rest) (1) or the chord (0)
+    };
+
+    // the fluid's energy at fixed mass, E = -H int_{A_f}^{A} P dA' of the Tait law
+    // P = P_T + K [(A_f / A)^7 - 1] (shaped.fluid_energy, there written with A_f^7 (A^-6 -
+    // A_f^-6) = A_f (q^6 - 1), q = A_f / A: the same number to rounding, without pow);
+    // dE/dA = -H P
+    inline double fluid_energy(double A, double A_f, double P_T, double K, double H)
+    {
+      const double q = A_f / A, q2 = q * q;
+      return -H * ((P_T - K) * (A - A_f) - K / 6.0 * A_f * (q2 * q2 * q2 - 1.0));
+    }
+    inline double fluid_pressure(double A, double A_f, double P_T, double K)
+    {
+      return tait_pressure(pow7(A_f / A), P_T, K);
+    }
+
+    // one wall of chord l and rest length r: EA/(2r) (l - r)^2 while stretched or
+    // mildly compressed; shorter than r - buckle r / EA it buckles and pushes with buckle
+    // plus soft EA/r times the further shortening (shaped.wall_energy); de = dE/dl
+    inline double wall_energy(double l, double r, double EA, double buckle, double soft, double &de)
+    {
+      const double k = EA / r;
+      const double lb = r - buckle / k;
+      if (l >= lb) {
+        de = k * (l - r);
+        return 0.5 * k * (l - r) * (l - r);
+      }
+      const double shortening = lb - l;
+      de = -buckle - soft * k * shortening;
+      return 0.5 * buckle * buckle / k + buckle * shortening +
+          0.5 * soft * k * shortening * shortening;
+    }
+
+    // a wall's length along its folds (the strip's length): the chord, or with contour
+    // max(chord, rest) joined C1 over chord - rest in +-delta (shaped_tensor.contour_length);
+    // m1 = dm/dl
+    inline double contour_length(double l, double r, double delta, int contour, double &m1)
+    {
+      if (!contour) {
+        m1 = 1.0;
+        return l;
+      }
+      const double t = l - r;
+      const double u = (t + delta) / (2.0 * delta);
+      m1 = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);
+      if (t >= delta) return l;
+      if (t <= -delta) return r;
+      return r + (t + delta) * (t + delta) / (4.0 * delta);
+    }
+
+    // the open fraction psi of a cell's intercellular space from its chord sum S, the
+    // cubic step over the mean wall strain S / R - 1 from 0 to e1 (shaped_tensor.void_open);
+    // p1 = dpsi/dS
+    inline double void_open(double S, double R, double e1, double &p1)
+    {
+      double t = (S / R - 1.0) / e1;
+      t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
+      p1 = (t > 0.0 && t < 1.0) ? 6.0 * t * (1.0 - t) / (e1 * R) : 0.0;
+      return t * t * (3.0 - 2.0 * t);
+    }
+
+    // the fresh wall strain eps of the built tissue from one interior cell of polygon
+    // area D and perimeter L: H P_f (2 D (1 - void) - w L) = EA eps L (virtual work of a
+    // uniform dilation; shaped_tensor._fresh_with_void, shaped.fresh_balance_strain)
+    inline double fresh_strain(double H, double P_f, double D, double L, double void_frac, double w,
+                               double EA)
+    {
+      return H * P_f * (2.0 * D * (1.0 - void_frac) - w * L) / L / EA;
+    }
+    // the fresh fluid area of a cell, D (1 - void) - w L
+    inline double fresh_fluid_area(double D, double L, double void_frac, double w)
+    {
+      return D * (1.0 - void_frac) - w * L;
+    }
+
+    // the bond target G(F) = (1 - iso) F + iso sqrt(det F) R(F), R the rotation of F's polar
+    // decomposition, R = [[p, -q], [q, p]] / |(p, q)|, p = a + d, q = c - b; with dG[m][k] =
+    // dG_m / dF_k (shaped_tensor._bond_target). False when iso > 0 and det F <= 0 (no
+    // polar rotation of an inverted cell).
+    inline bool bond_target(const double *F, double iso, double *G, double (*dG)[4] = nullptr)
+    {
+      const double a = F[0], b = F[1], c = F[2], d = F[3];
+      for (int m = 0; m < 4; m++) G[m] = (1.0 - iso) * F[m];
+      if (dG)
+        for (int m = 0; m < 4; m++)
+          for (int k = 0; k < 4; k++) dG[m][k] = m == k ? 1.0 - iso : 0.0;
+      if (iso == 0.0) return true;
+      const double J = a * d - b * c;
+      if (!(J > 0.0)) return false;
+      const double p = a + d, q = c - b;
+      const double r = std::sqrt(p * p + q * q);
+      const double phi = std::sqrt(J) / r;
+      const double M[4] = {p, -q, q, p};
+      for (int m = 0; m < 4; m++) G[m] += iso * phi * M[m];
+      if (dG) {
+        const double DP[4] = {1.0, 0.0, 0.0, 1.0}, DQ[4] = {0.0, -1.0, 1.0, 0.0};
+        const double gJ[4] = {d, -c, -b, a};
+        double gphi[4];
+        for (int k = 0; k < 4; k++) {
+          const double gr = (p * DP[k] + q * DQ[k]) / r;
+          gphi[k] = phi * (gJ[k] / (2.0 * J) - gr / r);
+        }
+        // dM/dF: M11 = M22 = p, M21 = -M12 = q
+        const double *dM[4] = {DP, DQ, DQ, DP};
+        const double sign[4] = {1.0, -1.0, 1.0, 1.0};
+        for (int m = 0; m < 4; m++)
+          for (int k = 0; k < 4; k++) dG[m][k] += iso * (M[m] * gphi[k] + phi * sign[m] * dM[m][k]);
+      }
+      return true;
+    }
+
+  }    // namespace Shaped
+}    // namespace CGMS
+}    // namespace LAMMPS_NS
+
+#endif

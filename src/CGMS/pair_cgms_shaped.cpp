@@ -1,0 +1,695 @@
+/* ----------------------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
+------------------------------------------------------------------------- */
+
+#include "pair_cgms_shaped.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "memory.h"
+#include "min.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using CGMS::Shaped::Params;
+
+// the per-atom properties the data file gives every bead (python/cgms/shaped_data.py)
+static const char *const PROPERTY_HINT =
+    "write the tissue with cgms.shaped_data.write_data() and define its properties before "
+    "read_data with the fix command cgms.shaped_data.fix_command() prints (see "
+    "doc/pair_cgms_shaped.rst)";
+
+/* ---------------------------------------------------------------------- */
+
+PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
+    Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
+    iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
+    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), target(nullptr), nmax_target(0),
+    min_x(nullptr), min_f(nullptr), nmax_min(0)
+{
+  single_enable = 0;
+  restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
+  one_coeff = 1;
+  manybody_flag = 1;
+  no_virial_fdotr_compute = 1;    // bond forces act on local beads only
+  centroidstressflag = CENTROID_NOTAVAIL;
+  comm_forward = 5;    // F and the boundary flag
+}
+
+PairCGMSShaped::~PairCGMSShaped()
+{
+  memory->destroy(target);
+  memory->destroy(min_x);
+  memory->destroy(min_f);
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   pair_style cgms/shaped dryness s [keyword value ...]
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::settings(int narg, char **arg)
+{
+  if (strcmp(update->unit_style, "si") != 0)
+    error->all(FLERR, "Pair style cgms/shaped requires units si (found units {})",
+               update->unit_style);
+  const char *known =
+      "dryness wall_EA buckle soft beta_a beta_b lamella kg_ratio void void_onset smooth iso "
+      "strip reach";
+  Params p;
+  double s = -1.0, r = 1.25;
+  for (int iarg = 0; iarg < narg; iarg += 2) {
+    const std::string key = arg[iarg];
+    if (iarg + 1 >= narg) error->all(FLERR, "Pair style cgms/shaped keyword {} needs a value", key);
+    const char *value = arg[iarg + 1];
+    auto number = [&](double lo, bool lo_open, double hi) {
+      const double v = utils::numeric(FLERR, value, false, lmp);
+      if (!(lo_open ? v > lo : v >= lo) || !(v <= hi))
+        error->all(FLERR, "Pair style cgms/shaped {} {} is out of range: it must be {} {}{}", key,
+                   value, lo_open ? ">" : ">=", lo,
+                   std::isinf(hi) ? std::string() : fmt::format(" and <= {}", hi));
+      return v;
+    };
+    const double inf = HUGE_VAL;
+    if (key == "dryness")
+      s = number(0.0, true, 1.0);
+    else if (key == "wall_EA")
+      p.wall_EA = number(0.0, true, inf);
+    else if (key == "buckle")
+      p.buckle = number(0.0, false, inf);
+    else if (key == "soft")
+      p.soft = number(0.0, false, inf);
+    else if (key == "beta_a")
+      p.beta_a = number(0.0, true, inf);
+    else if (key == "beta_b")
+      p.beta_b = utils::numeric(FLERR, value, false, lmp);
+    else if (key == "lamella")
+      p.lamella = number(0.0, false, inf);
+    else if (key == "kg_ratio")
+      p.kg_ratio = number(0.0, false, inf);
+    else if (key == "void")
+      p.void_frac = number(0.0, false, 0.99);
+    else if (key == "void_onset")
+      p.void_onset = number(0.0, true, inf);
+    else if (key == "smooth")
+      p.smooth = number(0.0, true, inf);
+    else if (key == "iso")
+      p.iso = number(0.0, false, 1.0);
+    else if (key == "reach")
+      r = number(0.0, true, inf);
+    else if (key == "strip") {
+      if (strcmp(value, "contour") == 0)
+        p.contour = 1;
+      else if (strcmp(value, "chord") == 0)
+        p.contour = 0;
+      else
+        error->all(FLERR, "Pair style cgms/shaped strip must be contour or chord, not '{}'", value);
+    } else
+      error->all(FLERR, "Unknown pair style cgms/shaped keyword '{}' (known: {})", key, known);
+  }
+  if (s < 0.0)
+    error->all(FLERR,
+               "Pair style cgms/shaped needs the dryness of the tissue: 'pair_style cgms/shaped "
+               "dryness <s>' with 0 < s <= 1");
+  par = p;
+  dryness = s;
+  reach = r;
+}
+
+/* ----------------------------------------------------------------------
+   pair_coeff * * material-file [name value ...], as pair cgms
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::coeff(int narg, char **arg)
+{
+  if (narg < 3 || (narg - 3) % 2 != 0)
+    error->all(FLERR, "Pair coeff for cgms/shaped: expected '* * material-file [name value ...]'");
+  if (!allocated) {
+    allocated = 1;
+    const int n = atom->ntypes + 1;
+    memory->create(setflag, n, n, "pair:setflag");
+    memory->create(cutsq, n, n, "pair:cutsq");
+  }
+  mat = CGMS::Material();
+  mat.read_file(lmp, arg[2]);
+  for (int iarg = 3; iarg < narg; iarg += 2) mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
+  mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = 1; j <= atom->ntypes; j++) setflag[i][j] = 1;
+  add_force_property();
+}
+
+/* ----------------------------------------------------------------------
+   the generalised force -dE/dF of every bead (J), for dump, compute and the minimiser:
+   added with pair_coeff, so that a dump defined before the run finds it
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::add_force_property()
+{
+  int flag = -1, cols = -1;
+  iforce = atom->find_custom("shaped_fF", flag, cols);
+  if (iforce < 0)
+    iforce = atom->add_custom("shaped_fF", 1, 4);
+  else if (flag != 1 || cols != 4)
+    error->all(FLERR,
+               "Pair style cgms/shaped: the per-atom property shaped_fF is its own output "
+               "(d2_shaped_fF, 4 columns); do not define it otherwise");
+}
+
+/* ----------------------------------------------------------------------
+   the per-atom properties of the fresh tissue and the state F
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::find_properties()
+{
+  struct Wanted {
+    const char *name;
+    int is_double, array, *index, *cols;
+  };
+  int ncols_F = 0, ncols_bondy = 0, ncols_wally = 0, dummy = 0;
+  const Wanted wanted[] = {{"shaped_F", 1, 1, &iF, &ncols_F},
+                           {"shaped_nb", 0, 1, &inb, &nb_max},
+                           {"shaped_bondx", 1, 1, &ibondx, &ncols_bondy},
+                           {"shaped_bondy", 1, 1, &ibondy, &ncols_bondy},
+                           {"shaped_wallx", 1, 1, &iwallx, &ncols_wally},
+                           {"shaped_wally", 1, 1, &iwally, &wall_max},
+                           {"shaped_id", 0, 0, &iid, &dummy},
+                           {"shaped_nwall", 0, 0, &inwall, &dummy},
+                           {"shaped_area0", 1, 0, &iarea, &dummy},
+                           {"shaped_boundary", 0, 0, &iboundary, &dummy}};
+  for (const auto &w : wanted) {
+    int flag = -1, cols = -1;
+    *w.index = atom->find_custom(w.name, flag, cols);
+    const std::string full =
+        fmt::format("{}{}_{}", w.is_double ? "d" : "i", w.array ? "2" : "", w.name);
+    if (*w.index < 0)
+      error->all(FLERR,
+                 "Pair style cgms/shaped needs the per-atom property {}, which is not "
+                 "defined: {}",
+                 full, PROPERTY_HINT);
+    if (flag != w.is_double || (cols > 0) != (w.array != 0))
+      error->all(FLERR,
+                 "Pair style cgms/shaped: the per-atom property {} has the wrong kind "
+                 "(it must be {}); {}",
+                 w.name, full, PROPERTY_HINT);
+    if (w.cols == &ncols_bondy && *w.cols && cols != *w.cols)
+      error->all(FLERR,
+                 "Pair style cgms/shaped: d2_shaped_bondx and d2_shaped_bondy must have "
+                 "the same number of columns; {}",
+                 PROPERTY_HINT);
+    if (w.cols == &wall_max && cols != ncols_wally)
+      error->all(FLERR,
+                 "Pair style cgms/shaped: d2_shaped_wallx and d2_shaped_wally must have "
+                 "the same number of columns; {}",
+                 PROPERTY_HINT);
+    *w.cols = cols;
+  }
+  if (ncols_F != 4)
+    error->all(FLERR,
+               "Pair style cgms/shaped: d2_shaped_F must have 4 columns (F11 F12 F21 F22), "
+               "not {}",
+               ncols_F);
+  if (ncols_bondy != nb_max)
+    error->all(FLERR,
+               "Pair style cgms/shaped: d2_shaped_bondx and d2_shaped_bondy must have as "
+               "many columns as i2_shaped_nb ({}), not {}",
+               nb_max, ncols_bondy);
+
+  add_force_property();
+  scratch.resize(6 * (size_t) wall_max);
+}
+
+/* ----------------------------------------------------------------------
+   the fresh wall strain eps of the built tissue, from its first interior cell (the one
+   of the lowest ID, as the prototype's first non-boundary index), and the longest fresh
+   bond, for the cutoff
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::fresh_strain_and_bond_length()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  const int *boundary = atom->ivector[iboundary];
+  const int *nwall = atom->ivector[inwall];
+  double **wallx = atom->darray[iwallx], **wally = atom->darray[iwally];
+  double **bondx = atom->darray[ibondx], **bondy = atom->darray[ibondy];
+  int **nb = atom->iarray[inb];
+
+  tagint first = MAXTAGINT, first_all;
+  double longest = 0.0;
+  int bad = 0;
+  for (int i = 0; i < nlocal; i++) {
+    if (!boundary[i] && tag[i] < first) first = tag[i];
+    if (nwall[i] < 3 || nwall[i] > wall_max || !(atom->dvector[iarea][i] > 0.0)) bad = 1;
+    for (int b = 0; b < nb_max; b++)
+      if (nb[i][b] > 0) longest = std::max(longest, std::hypot(bondx[i][b], bondy[i][b]));
+  }
+  int bad_all;
+  MPI_Allreduce(&bad, &bad_all, 1, MPI_INT, MPI_MAX, world);
+  if (bad_all)
+    error->all(FLERR,
+               "Pair style cgms/shaped: a bead has fewer than 3 walls, more walls than "
+               "d2_shaped_wall holds, or a fresh polygon area that is not positive; {}",
+               PROPERTY_HINT);
+  MPI_Allreduce(&first, &first_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  MPI_Allreduce(&longest, &bond_max, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (first_all == MAXTAGINT)
+    error->all(FLERR,
+               "Pair style cgms/shaped: the tissue has no interior cell (every bead is on "
+               "the boundary), so the fresh wall strain that balances turgor is undefined");
+  if (!(bond_max > 0.0))
+    error->all(FLERR, "Pair style cgms/shaped: no bead has a fresh neighbour; {}", PROPERTY_HINT);
+
+  double mine = 0.0;
+  const int i = atom->map(first_all);
+  if (i >= 0 && i < nlocal) {
+    double L = 0.0;
+    for (int e = 0; e < nwall[i]; e++)
+      L += std::sqrt(wallx[i][e] * wallx[i][e] + wally[i][e] * wally[i][e]);
+    mine = CGMS::Shaped::fresh_strain(mat.height, mat.P_f, atom->dvector[iarea][i], L,
+                                      par.void_frac, par.lamella * mat.pectin, par.wall_EA);
+  }
+  MPI_Allreduce(&mine, &eps, 1, MPI_DOUBLE, MPI_SUM, world);
+  if (!(eps > -1.0))
+    error->all(FLERR,
+               "Pair style cgms/shaped: the fresh wall strain {} is not above -1 (lamella "
+               "or void too large for these cells)",
+               eps);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairCGMSShaped::init_style()
+{
+  if (domain->dimension != 2)
+    error->all(FLERR, "Pair style cgms/shaped is two-dimensional: use 'dimension 2'");
+  if (atom->map_style == Atom::MAP_NONE)
+    error->all(FLERR,
+               "Pair style cgms/shaped finds the fresh neighbours by ID: add 'atom_modify "
+               "map array' before read_data");
+  if (update->whichflag == 1 && update->nsteps > 0)
+    error->all(FLERR,
+               "Pair style cgms/shaped has no integrator for the shape tensors F: 'run' "
+               "only with 0 steps (forces and energy); find steady states with 'minimize' and "
+               "min_style cg or sd");
+  if (update->whichflag == 2 &&
+      !(strcmp(update->minimize_style, "cg") == 0 || strcmp(update->minimize_style, "sd") == 0))
+    error->all(FLERR,
+               "Pair style cgms/shaped: min_style {} does not move the shape tensors F "
+               "(per-atom degrees of freedom); use min_style cg or sd",
+               update->minimize_style);
+  find_properties();
+  fresh_strain_and_bond_length();
+  // a power of two near x_ref: the minimiser's dof_scale F and F convert exactly
+  dof_scale = std::ldexp(1.0, (int) std::lround(std::log2(mat.x_ref)));
+  if (update->whichflag == 2) update->minimize->request(this, 4, 0.1 * dof_scale);
+  neighbor->add_request(this);
+}
+
+/* ----------------------------------------------------------------------
+   the cutoff holds the LJ radius at this dryness and reach x the longest fresh bond,
+   so that every fresh neighbour is a ghost (check_topology holds the bonds to it)
+------------------------------------------------------------------------- */
+
+double PairCGMSShaped::init_one(int, int)
+{
+  cut_global = std::max(mat.lj_radius(dryness), reach * bond_max);
+  return cut_global;
+}
+
+/* ----------------------------------------------------------------------
+   every fresh neighbour of every local bead is here (local or ghost) and closer than the
+   cutoff; collective, at every new neighbour list
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::check_topology()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  double **x = atom->x;
+  int **nb = atom->iarray[inb];
+  const int *fresh_id = atom->ivector[iid];
+  tagint renamed = MAXTAGINT, renamed_all;
+  for (int i = 0; i < nlocal; i++)
+    if (fresh_id[i] != tag[i] && tag[i] < renamed) renamed = tag[i];
+  MPI_Allreduce(&renamed, &renamed_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (renamed_all != MAXTAGINT)
+    error->all(FLERR,
+               "Pair style cgms/shaped: the atom IDs changed since the tissue was written "
+               "(bead {} was written with another ID), so the fresh neighbours' IDs name other "
+               "beads; use 'delete_atoms ... compress no' and no reset_atoms id",
+               renamed_all);
+
+  tagint missing[2] = {0, 0}, far_pair[2] = {0, 0};
+  double longest = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    for (int b = 0; b < nb_max; b++) {
+      const tagint t = nb[i][b];
+      if (t <= 0) continue;
+      int j = atom->map(t);
+      if (j < 0) {
+        if (!missing[0]) missing[0] = tag[i], missing[1] = t;
+        continue;
+      }
+      j = domain->closest_image(i, j);
+      const double r = std::hypot(x[j][0] - x[i][0], x[j][1] - x[i][1]);
+      if (r > longest) longest = r, far_pair[0] = tag[i], far_pair[1] = t;
+    }
+
+  // the lowest-tagged missing neighbour: does it exist on any rank?
+  tagint k = missing[1] ? missing[1] : MAXTAGINT, k_all;
+  MPI_Allreduce(&k, &k_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (k_all != MAXTAGINT) {
+    tagint who = missing[1] == k_all ? missing[0] : 0, who_all;
+    MPI_Allreduce(&who, &who_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+    const int j = atom->map(k_all);
+    int owned = j >= 0 && j < nlocal, exists;
+    MPI_Allreduce(&owned, &exists, 1, MPI_INT, MPI_MAX, world);
+    if (!exists)
+      error->all(FLERR,
+                 "Pair style cgms/shaped: bead {}'s fresh neighbour {} no longer exists "
+                 "(deleted?): the shaped model's bonds are fixed at the fresh tissue; delete "
+                 "beads before writing its data file (cgms.shaped_data.write_data), not after",
+                 who_all, k_all);
+    error->all(FLERR,
+               "Pair style cgms/shaped: bead {}'s fresh neighbour {} is not within this "
+               "rank's ghost atoms: the ghost cutoff {:.6g} m is shorter than their bond; raise "
+               "the pair's reach (now {}) or 'comm_modify cutoff'",
+               who_all, k_all, comm->get_comm_cutoff(), reach);
+  }
+  double longest_all;
+  MPI_Allreduce(&longest, &longest_all, 1, MPI_DOUBLE, MPI_MAX, world);
+  if (longest_all > cut_global) {
+    tagint pair[2] = {0, 0}, pair_all[2];
+    if (longest == longest_all) pair[0] = far_pair[0], pair[1] = far_pair[1];
+    MPI_Allreduce(pair, pair_all, 2, MPI_LMP_TAGINT, MPI_MAX, world);
+    error->all(FLERR,
+               "Pair style cgms/shaped: the fresh bond {}-{} is {:.6g} m long, beyond the "
+               "pair's cutoff {:.6g} m (reach {} x the longest fresh bond {:.6g} m), so the ghost "
+               "atoms may not hold it; raise reach",
+               pair_all[0], pair_all[1], longest_all, cut_global, reach, bond_max);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   cell i's fluid and wall energy and its derivative dE/dF (shaped_tensor.energy):
+   walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e = c(s) |d0_e| /
+   (1 + eps); fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1
+   when A <= 0 (infinite energy, no gradient)
+------------------------------------------------------------------------- */
+
+double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
+{
+  const double *F = atom->darray[iF][i];
+  const double *d0x = atom->darray[iwallx][i], *d0y = atom->darray[iwally][i];
+  const int nw = atom->ivector[inwall][i];
+  const double area0 = atom->dvector[iarea][i];
+  const double s = dryness;
+  const double w = par.lamella * mat.pectin;
+  const double contraction = mat.perimeter_contraction(s);
+  double *u0 = scratch.data(), *u1 = u0 + wall_max, *len = u1 + wall_max;
+  double *rest = len + wall_max, *m1 = rest + wall_max, *de = m1 + wall_max;
+
+  double L0 = 0.0, rest_sum = 0.0, S = 0.0, sum_m = 0.0;
+  for (int e = 0; e < nw; e++) {
+    const double dx = d0x[e], dy = d0y[e];
+    const double chord0 = std::sqrt(dx * dx + dy * dy);
+    L0 += chord0;
+    rest[e] = chord0 / (1.0 + eps) * contraction;
+    rest_sum += rest[e];
+    const double c0 = F[0] * dx + F[1] * dy, c1 = F[2] * dx + F[3] * dy;
+    len[e] = std::sqrt(c0 * c0 + c1 * c1);
+    u0[e] = c0 / len[e];
+    u1[e] = c1 / len[e];
+    S += len[e];
+    sum_m += CGMS::Shaped::contour_length(len[e], rest[e], par.smooth * eps * rest[e], par.contour,
+                                          m1[e]);
+  }
+  const double A_f = s * CGMS::Shaped::fresh_fluid_area(area0, L0, par.void_frac, w);
+  const double P_T = s * mat.P_f;
+  double psi = 0.0, p1 = 0.0;
+  if (par.void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum, par.void_onset * eps, p1);
+  const double det = F[0] * F[3] - F[1] * F[2];
+  const double D = det * area0;
+  const double A = D * (1.0 - par.void_frac * psi) - w * sum_m;
+  if (!(A > 0.0)) {
+    bad = 1;
+    for (int k = 0; k < 4; k++) dEdF[k] = 0.0;
+    return 0.0;
+  }
+
+  double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height);
+  for (int e = 0; e < nw; e++)
+    energy += CGMS::Shaped::wall_energy(len[e], rest[e], par.wall_EA, par.buckle, par.soft, de[e]);
+  const double f1 = -mat.height * CGMS::Shaped::fluid_pressure(A, A_f, P_T, mat.K);
+
+  // dl_e/dF = u_e (x) d0_e; gA = gD (1 - void psi) - void D p1 gS - w sum m1 gl
+  const double gD[4] = {area0 * F[3], -area0 * F[2], -area0 * F[1], area0 * F[0]};
+  double gS[4] = {0.0, 0.0, 0.0, 0.0}, gm[4] = {0.0, 0.0, 0.0, 0.0}, gw[4] = {0.0, 0.0, 0.0, 0.0};
+  for (int e = 0; e < nw; e++) {
+    const double gl[4] = {u0[e] * d0x[e], u0[e] * d0y[e], u1[e] * d0x[e], u1[e] * d0y[e]};
+    for (int k = 0; k < 4; k++) {
+      gS[k] += gl[k];
+      gm[k] += m1[e] * gl[k];
+      gw[k] += de[e] * gl[k];
+    }
+  }
+  for (int k = 0; k < 4; k++) {
+    const double gA =
+        gD[k] * (1.0 - par.void_frac * psi) - par.void_frac * (D * p1) * gS[k] - w * gm[k];
+    dEdF[k] = f1 * gA + gw[k];
+  }
+  return energy;
+}
+
+/* ----------------------------------------------------------------------
+   bead i's fresh bonds, each in full: k_g/2 |m|^2 with m = x_k - x_i - f (G(F_i) + G(F_k))
+   d0_ik / 2, f = beta(s) on rim bonds (both beads on the boundary); the energy is halved
+   (bead k's owner evaluates the same bond), the force k_g m goes to bead i alone and
+   k_g m dm/dF_i into dEdF
+------------------------------------------------------------------------- */
+
+double PairCGMSShaped::bond_terms(int i, double *dEdF)
+{
+  double **x = atom->x;
+  double **f = atom->f;
+  const int *nb = atom->iarray[inb][i];
+  const double *d0x = atom->darray[ibondx][i], *d0y = atom->darray[ibondy][i];
+  const int *boundary = atom->ivector[iboundary];
+  const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
+  const double beta = CGMS::beta(par.beta_a, par.beta_b, dryness);
+  double G[4], dG[4][4];
+  CGMS::Shaped::bond_target(atom->darray[iF][i], par.iso, G, dG);
+
+  double energy = 0.0;
+  for (int b = 0; b < nb_max; b++) {
+    if (nb[b] <= 0) continue;
+    const int j = domain->closest_image(i, atom->map(nb[b]));
+    const double dx = d0x[b], dy = d0y[b];
+    const double fb = boundary[i] && boundary[j] ? beta : 1.0;
+    const double *Gj = target + 4 * j;
+    const double t0 = G[0] * dx + G[1] * dy + (Gj[0] * dx + Gj[1] * dy);
+    const double t1 = G[2] * dx + G[3] * dy + (Gj[2] * dx + Gj[3] * dy);
+    const double m0 = x[j][0] - x[i][0] - 0.5 * fb * t0;
+    const double m1 = x[j][1] - x[i][1] - 0.5 * fb * t1;
+    const double e = 0.25 * k_g * (m0 * m0 + m1 * m1);
+    const double fx = k_g * m0, fy = k_g * m1;
+    f[i][0] += fx;
+    f[i][1] += fy;
+    // dm_c/dF_k = -f/2 sum_j dG[2c + j][k] d0_j
+    for (int k = 0; k < 4; k++)
+      dEdF[k] -= 0.5 * fb * k_g *
+          (m0 * (dG[0][k] * dx + dG[1][k] * dy) + m1 * (dG[2][k] * dx + dG[3][k] * dy));
+    energy += e;
+    if (eflag_atom) eatom[i] += e;
+    if (vflag_either) {
+      // half the bond's virial r_ik (x) f_i, the other half from bead k's owner
+      const double delx = x[i][0] - x[j][0], dely = x[i][1] - x[j][1];
+      const double v[6] = {0.5 * delx * fx, 0.5 * dely * fy, 0.0, 0.5 * delx * fy, 0.0, 0.0};
+      for (int n = 0; n < 6; n++) {
+        if (vflag_global) virial[n] += v[n];
+        if (vflag_atom) vatom[i][n] += v[n];
+      }
+    }
+  }
+  return energy;
+}
+
+/* ---------------------------------------------------------------------- */
+
+bool PairCGMSShaped::fresh_neighbour(int i, tagint t) const
+{
+  const int *nb = atom->iarray[inb][i];
+  for (int b = 0; b < nb_max; b++)
+    if (nb[b] == t) return true;
+  return false;
+}
+
+/* ----------------------------------------------------------------------
+   LJ repulsion between beads that were not fresh neighbours (shaped.lj_energy):
+   f0_r [(r/x)^8/8 - (r/x)^4/4 + 1/8] inside the LJ radius r(s)
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::lj_terms()
+{
+  double **x = atom->x;
+  double **f = atom->f;
+  const tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
+  const int newton_pair = force->newton_pair;
+  const double rad = mat.lj_radius(dryness);
+  const double radsq = rad * rad;
+  const double f0 = mat.f0_r;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double delx = x[i][0] - x[j][0], dely = x[i][1] - x[j][1];
+      const double rsq = delx * delx + dely * dely;
+      if (rsq >= radsq || fresh_neighbour(i, tag[j])) continue;
+      const double r2inv = 1.0 / rsq;
+      const double q2 = radsq * r2inv, q4 = q2 * q2, q8 = q4 * q4;
+      const double fpair = f0 * (q8 - q4) * r2inv;
+      f[i][0] += fpair * delx;
+      f[i][1] += fpair * dely;
+      if (newton_pair || j < nlocal) {
+        f[j][0] -= fpair * delx;
+        f[j][1] -= fpair * dely;
+      }
+      const double evdwl = eflag_either ? f0 * (0.125 * q8 - 0.25 * q4 + 0.125) : 0.0;
+      if (evflag) ev_tally(i, j, nlocal, newton_pair, evdwl, 0.0, fpair, delx, dely, 0.0);
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void PairCGMSShaped::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  comm->forward_comm(this);
+  if (neighbor->ago == 0) check_topology();
+
+  // G(F) of every local and ghost bead, for the bonds
+  const int nall = atom->nlocal + atom->nghost;
+  if (atom->nmax > nmax_target) {
+    memory->destroy(target);
+    nmax_target = atom->nmax;
+    memory->create(target, 4 * nmax_target, "pair:target");
+  }
+  double **F = atom->darray[iF];
+  int bad = 0;
+  for (int i = 0; i < nall; i++)
+    if (!CGMS::Shaped::bond_target(F[i], par.iso, target + 4 * i)) bad = 1;
+  const int targets_valid = !bad;
+
+  double **fF = atom->darray[iforce];
+  double energy = 0.0;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    double dEdF[4];
+    double e = cell_term(i, dEdF, bad);
+    if (eflag_atom) eatom[i] += e;
+    if (targets_valid) e += bond_terms(i, dEdF);
+    energy += e;
+    for (int k = 0; k < 4; k++) fF[i][k] = -dEdF[k];
+  }
+  lj_terms();
+  // a cell turned inside out (fluid area or det F not positive) has infinite energy: a
+  // line search steps back from it
+  if (eflag_global) eng_vdwl += bad ? HUGE_VAL : energy;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int PairCGMSShaped::pack_forward_comm(int n, int *list, double *buf, int, int *)
+{
+  double **F = atom->darray[iF];
+  const int *boundary = atom->ivector[iboundary];
+  int m = 0;
+  for (int ii = 0; ii < n; ii++) {
+    const int j = list[ii];
+    for (int k = 0; k < 4; k++) buf[m++] = F[j][k];
+    buf[m++] = boundary[j];
+  }
+  return m;
+}
+
+void PairCGMSShaped::unpack_forward_comm(int n, int first, double *buf)
+{
+  double **F = atom->darray[iF];
+  int *boundary = atom->ivector[iboundary];
+  int m = 0;
+  for (int i = first; i < first + n; i++) {
+    for (int k = 0; k < 4; k++) F[i][k] = buf[m++];
+    boundary[i] = static_cast<int>(buf[m++]);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the minimiser moves y = dof_scale F (metres, as the positions) under the force
+   -dE/dy = -dE/dF / dof_scale (newtons); dof_scale is a power of two, so F = y / dof_scale
+   exactly
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::min_xf_pointers(int, double **xextra, double **fextra)
+{
+  if (atom->nmax > nmax_min) {
+    memory->destroy(min_x);
+    memory->destroy(min_f);
+    nmax_min = atom->nmax;
+    memory->create(min_x, 4 * nmax_min, "pair:min_x");
+    memory->create(min_f, 4 * nmax_min, "pair:min_f");
+  }
+  *xextra = min_x;
+  *fextra = min_f;
+}
+
+void PairCGMSShaped::min_xf_get(int)
+{
+  double **F = atom->darray[iF];
+  double **fF = atom->darray[iforce];
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 4; k++) {
+      min_x[4 * i + k] = dof_scale * F[i][k];
+      min_f[4 * i + k] = fF[i][k] / dof_scale;
+    }
+}
+
+void PairCGMSShaped::min_x_set(int)
+{
+  double **F = atom->darray[iF];
+  for (int i = 0; i < atom->nlocal; i++)
+    for (int k = 0; k < 4; k++) F[i][k] = min_x[4 * i + k] / dof_scale;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void *PairCGMSShaped::extract(const char *name, int &dim)
+{
+  dim = 0;
+  if (strcmp(name, "dryness") == 0) return (void *) &dryness;
+  if (strcmp(name, "eps") == 0) return (void *) &eps;
+  if (strcmp(name, "cut_global") == 0) return (void *) &cut_global;
+  return nullptr;
+}
+
+double PairCGMSShaped::memory_usage()
+{
+  return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double);
+}

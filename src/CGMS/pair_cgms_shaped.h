@@ -1,0 +1,82 @@
+/* -*- c++ -*- ----------------------------------------------------------
+   CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+
+   This software is distributed under the GNU General Public License
+   version 2; see the LICENSE file in the top-level directory.
+------------------------------------------------------------------------- */
+
+#ifndef LMP_PAIR_CGMS_SHAPED_H
+#define LMP_PAIR_CGMS_SHAPED_H
+
+#include "cgms_material.h"
+#include "cgms_shaped_laws.h"
+#include "pair.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+
+// pair_style cgms/shaped: the shaped coarse model with a shape tensor per cell
+// (doc/pair_cgms_shaped.rst, doc/model.md "A coarse model with cell shape"). Each bead
+// carries its 2x2 deformation F (per-atom custom array shaped_F) and the fixed data of
+// the fresh tissue (fresh neighbours and bond vectors, wall vectors, polygon area,
+// boundary flag; custom properties of a fix property/atom, written into the data file by
+// python/cgms/shaped_data.py). compute() evaluates, per local bead, its cell's fluid and
+// wall energy (a function of F alone), each of its fresh bonds' compatibility in full
+// (energy halved: the neighbour's owner evaluates the same bond), and the LJ repulsion
+// over the half neighbour list without the fresh neighbours. Only F and the boundary flag
+// travel to the ghosts (forward communication); no force goes back. F is a per-atom
+// degree of freedom of the line-search minimisers (min_xf_* hooks, as pair eff/cut).
+class PairCGMSShaped : public Pair {
+ public:
+  PairCGMSShaped(class LAMMPS *);
+  ~PairCGMSShaped() override;
+
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void *extract(const char *, int &) override;
+  double memory_usage() override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+
+  void min_xf_pointers(int, double **, double **) override;
+  void min_xf_get(int) override;
+  void min_x_set(int) override;
+
+ protected:
+  CGMS::Material mat;
+  CGMS::Shaped::Params par;
+  double dryness;       // s of every bead
+  double reach;         // the cutoff covers reach x the longest fresh bond
+  double cut_global;    // neighbour-list cutoff: max(LJ radius, reach x longest bond)
+  double eps;           // the fresh wall strain (from the tissue, init_style)
+  double bond_max;      // the longest fresh bond (m)
+  double dof_scale;     // the minimiser moves dof_scale F (m): a power of 2 near x_ref
+
+  // indices of the per-atom custom properties (Atom::find_custom)
+  int iF, inb, ibondx, ibondy, iwallx, iwally, iid, inwall, iarea, iboundary, iforce;
+  int nb_max, wall_max;    // columns of the neighbour and wall arrays
+
+  double *target;    // G(F) of every local and ghost bead (4 per bead)
+  int nmax_target;
+  double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
+  int nmax_min;
+  std::vector<double> scratch;    // per-wall values of one cell
+
+  void add_force_property();
+  void find_properties();
+  void fresh_strain_and_bond_length();
+  void check_topology();
+  double cell_term(int i, double *dEdF, int &bad);
+  double bond_terms(int i, double *dEdF);
+  void lj_terms();
+  bool fresh_neighbour(int i, tagint tag) const;
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

@@ -1,0 +1,103 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""Steady states of pair_style cgms/shaped by LAMMPS's minimize (min_style cg, the shape
+tensors F moved as per-atom degrees of freedom) against the oracle's trust-region Newton
+method, cgms.shaped_tensor.relax, on a small built tissue at s = 0.6.
+
+Both start from the same state: the fresh tissue shrunk by sqrt(s), every F sqrt(s) times
+the identity plus a seeded kick of 1e-3 (as shaped_tensor.ramp does: the isotropic state
+is a saddle that a gradient method never leaves, since on the hexagonal lattice the
+gradient of an isotropic F is isotropic). Both stop at a force tolerance.
+
+The steady state is not unique: a cell's fluid and walls see its hexagon through |F d0| and
+det F, so each cell may flatten along any of the hexagon's equivalent directions (F -> F Q,
+Q a symmetry of the fresh hexagon) at the same energy, and the two methods pick different
+ones for some cells (measured: the beads agree to 1e-8 x_ref, the energies to 1e-21 J,
+while some cells' F differ by 0.15). So the test compares what the choice leaves
+unchanged: the bead positions, each F's singular values and determinant, the energy.
+
+Tolerance: near a strict minimum z* (Hessian H, smallest eigenvalue lambda away from the
+three rigid motions) a state with gradient g lies within |g| / lambda of z* (the quadratic
+model; with positions in units of x_ref and F as it is, so both are of order one). The
+minimum LAMMPS reaches and the oracle's are images of each other under the symmetries
+above (same invariants, same Hessian spectrum), so the invariants of the two states differ
+by at most Lip (|g_lammps| + |g_python|) / lambda, Lip = 1 for positions and singular
+values, 2 max|F| for det F, after removing the rigid motion between the states (the energy
+is invariant under x -> R x + t, F -> R F). Both gradients are measured by the oracle at the
+states themselves, lambda from its exact Hessian; the energies differ by at most
+(|g_lammps|^2 + |g_python|^2) / lambda plus their rounding."""
+
+import math
+
+import numpy as np
+import pytest
+
+import shapedlmp as sl
+from cgms import shaped_tensor as st, tissue
+
+S = 0.6
+FTOL = 1e-11
+MINIMIZE = f"""min_style cg
+min_modify dmax 1e-6 norm max line forcezero
+minimize 0 {FTOL} 100000 1000000
+"""
+
+
+def start(geo, s=S, kick=1e-3, seed=1):
+    x, F = st.split(st.fresh_state(geo), geo["n"])
+    c = x.mean(axis=0)
+    rng = np.random.default_rng(seed)
+    F = math.sqrt(s) * (F + rng.uniform(-kick, kick, F.shape))
+    return st.join(c + (x - c) * math.sqrt(s), F)
+
+
+def scaled_gradient_norm(z, lev):
+    n = lev["n"]
+    _, g = st.energy(z, lev)
+    return np.linalg.norm(g * np.concatenate([np.full(2 * n, sl.L), np.ones(4 * n)]))
+
+
+def align(z, ref, n):
+    """z moved rigidly (x -> R x + t, F -> R F) onto ref's positions (least squares)."""
+    x, F = st.split(z, n)
+    xr, _ = st.split(ref, n)
+    c, cr = x.mean(axis=0), xr.mean(axis=0)
+    u, _, vt = np.linalg.svd((x - c).T @ (xr - cr))
+    R = (u @ vt).T
+    return st.join((x - c) @ R.T + cr, np.einsum("ab,nbc->nac", R, F))
+
+
+@pytest.mark.lammps
+def test_minimize_reaches_the_oracles_steady_state(tmp_path):
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, sl.L)
+    geo = st.build(xy, sl.MAT, sl.BEST)
+    lev = st.at_level(geo, S)
+    n = geo["n"]
+    z0 = start(geo)
+    proc = sl.run(tmp_path, geo, z0, S, sl.BEST, sl.APPLE, commands=MINIMIZE)
+    z_lmp = align(sl.read_state(tmp_path / "state.dump")[0], z0, n)
+    z_py, info = st.relax(z0, lev, ftol=FTOL, maxiter=2000)
+    assert info["converged"], info
+    assert max(st.forces(z_lmp, lev)) < 10 * FTOL, proc.stdout[-2000:]
+    z_lmp = align(z_lmp, z_py, n)
+
+    u = np.concatenate([np.full(2 * n, sl.L), np.ones(4 * n)])
+    w = np.linalg.eigvalsh(st.hessian(z_py, lev).toarray() * np.outer(u, u))
+    rigid = np.abs(w) < 1e-6 * w.max()
+    assert rigid.sum() == 3 and np.all(w[~rigid] > 0)   # a strict minimum
+    lam = w[~rigid].min()
+    bound = (scaled_gradient_norm(z_lmp, lev) + scaled_gradient_norm(z_py, lev)) / lam
+    x_lmp, F_lmp = st.split(z_lmp, n)
+    x_py, F_py = st.split(z_py, n)
+    assert np.linalg.norm((x_lmp - x_py) / sl.L) <= bound
+    sv = np.linalg.svd(F_lmp, compute_uv=False) - np.linalg.svd(F_py, compute_uv=False)
+    assert np.linalg.norm(sv) <= bound, (np.linalg.norm(sv), bound)
+    ddet = np.linalg.det(F_lmp) - np.linalg.det(F_py)
+    assert np.linalg.norm(ddet) <= 2 * np.abs(F_py).max() * bound
+    E_lmp, E_py = st.energy(z_lmp, lev, gradient=False), st.energy(z_py, lev, gradient=False)
+    assert abs(E_lmp - E_py) <= bound ** 2 * lam + 64 * sl.EPS * sl.MAT["height"] \
+        * sl.MAT["K"] * lev["A_f0"].sum()
+    # the cells flattened (the steady state is not the isotropic saddle)
+    F = st.split(z_py, n)[1]
+    assert np.abs(F[:, 0, 0] - F[:, 1, 1]).max() > 0.05
