@@ -102,7 +102,6 @@ class FixCGMSFluid : public Fix {
   bigint load_data_file_state();
   bigint initialise_beads();
   int bead_without_state();
-  void advance_fluid_mass();
   void forward(int column);
   void refresh_vector();
   int output_frequency() const;
