@@ -82,8 +82,9 @@ def main():
     span = lambda v: f"{statistics.median(v):.2f} [{min(v):.2f}-{max(v):.2f}]"
     for label, runs in rows.items():
         ratio = [[r[k] / b[k] for r, b in zip(runs, rows["lj/cut"])] for k in ("wall", "cpu")]
+        share = statistics.median([r["share"] for r in runs])
         print(f"| {label} | {med([r['wall'] for r in runs])} | {med([r['cpu'] for r in runs])} | "
-              f"{statistics.median([r['share'] for r in runs]):.2f} | {span(ratio[0])} | {span(ratio[1])} |")
+              f"{share:.2f} | {span(ratio[0])} | {span(ratio[1])} |")
     return 0
 
 
