@@ -238,6 +238,7 @@ void FixCGMSFluid::pass_options_to_pair()
   o.always_balance = always_balance;
   o.minimize_balance = minimize_balance;
   o.allow_isolated = allow_isolated;
+  o.inertia_fluid = inertia_fluid;
   pair->set_fluid_options(o);
   if (thermo_energy && comm->me == 0)
     error->warning(FLERR,
@@ -351,8 +352,8 @@ void FixCGMSFluid::min_setup(int vflag)
 }
 
 /* ----------------------------------------------------------------------
-   a time step: the dryness schedule, then the mass transfer of the previous
-   step, before pair_style cgms computes the fluid state from it
+   a time step: the dryness schedule, before pair_style cgms applies the mass
+   transfer of the previous step and computes the fluid state (its fluid pass)
 ------------------------------------------------------------------------- */
 
 void FixCGMSFluid::pre_force(int)
@@ -363,7 +364,6 @@ void FixCGMSFluid::pre_force(int)
     refresh_ghost_dryness();
   const int fresh = bead_without_state();
   if (fresh >= 0) fresh_bead_error(fresh);
-  if (transfer && pair->passes_needed()) advance_fluid_mass();
 }
 
 void FixCGMSFluid::min_pre_force(int)
@@ -387,28 +387,6 @@ void FixCGMSFluid::post_force(int)
 void FixCGMSFluid::min_post_force(int vflag)
 {
   post_force(vflag);
-}
-
-/* ----------------------------------------------------------------------
-   the mass transfer of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n)
-   (doc/model.md, When the mass transfer is applied): at the start of step
-   n+1 rather than at the end of n, so that the state at the end of a step
-   (and so in a restart file) is the one its forces were computed from
-------------------------------------------------------------------------- */
-
-void FixCGMSFluid::advance_fluid_mass()
-{
-  const BeadState cg = bead_state(lmp);
-  double *rmass = atom->rmass;
-  const double dt = update->dt;
-  int emptied = -1;
-  for (int i = 0; i < atom->nlocal; i++) {
-    const BeadRow c = cg[i];
-    c[MF] += dt * c[DMDT];
-    if (!(c[MF] > 0.0) && emptied < 0) emptied = i;
-    if (inertia_fluid) rmass[i] = c[MF] + c[MS];
-  }
-  if (emptied >= 0) emptied_error(emptied);
 }
 
 /* ----------------------------------------------------------------------

@@ -16,11 +16,11 @@
 namespace LAMMPS_NS {
 
 // The fluid phase of the CGMS model around pair_style cgms, which computes it
-// (geometry, pressure, l_d, dm_f/dt, c_i; doc/model.md) in its compute(), as
-// SPH's fix only integrates what its pair computed: the dryness (keyword,
-// variable, schedule), the start-up of new beads, the mass transfer m_f +=
-// dt dm_f/dt, the data-file section, the stability scan of what the pair's
-// pass found, and the outputs.
+// (the previous step's mass transfer m_f += dt dm_f/dt, geometry, pressure, l_d,
+// dm_f/dt, c_i; doc/model.md) in its compute(): the dryness (keyword, variable,
+// schedule), the start-up of new beads, the fluid options the pair follows, the
+// data-file section, the stability scan of what the pair's pass found, and the
+// outputs.
 class FixCGMSFluid : public Fix {
  public:
   FixCGMSFluid(class LAMMPS *, int, char **);
@@ -104,7 +104,6 @@ class FixCGMSFluid : public Fix {
   void check_stored_state();
   bigint initialise_beads();
   int bead_without_state();
-  void advance_fluid_mass();
   void forward(int column);
   void refresh_vector();
   int output_frequency() const;

@@ -224,6 +224,7 @@ void FixCGMSFluid::stop_if_unstable(const Trouble &t)
   const int isolated = t.isolated, nonfinite = t.nonfinite, unstable = t.unstable;
   const int shaky = t.shaky, stiff = t.stiff;
 
+  if (t.emptied >= 0) emptied_error(t.emptied);
   if (isolated >= 0) isolated_error(isolated);
   if (nonfinite >= 0)
     error->one(FLERR,

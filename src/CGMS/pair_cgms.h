@@ -26,12 +26,13 @@ namespace CGMS {
     int always_balance = 0;       // 1: P = -Pi in runs too (external quasi-static solvers)
     int minimize_balance = 1;     // 1: under minimize, P = -Pi (quasi-static solve)
     int allow_isolated = 0;       // a bead without neighbours: error (0) or reference cell (1)
+    int inertia_fluid = 0;        // 1: rmass = m_f + m_s follows the fluid mass; 0: fresh mass
   };
 
   // the beads a fluid pass found beyond a limit (-1: none), first of each kind;
   // fix cgms/fluid's stability scan reports them
   struct Trouble {
-    int isolated = -1, nonfinite = -1, unstable = -1, shaky = -1;
+    int emptied = -1, isolated = -1, nonfinite = -1, unstable = -1, shaky = -1;
     int stiff = -1;    // the worst turgor case, with:
     double stiff_ratio = 0.0, stiff_limit = 0.0;
     int after_change = 0;    // right after a change of dryness
@@ -45,8 +46,9 @@ namespace CGMS {
 // c_i), the forward communication of c_i, and the force loop: turgor and
 // perimeter (c_i + c_k), relative-velocity damping, LJ repulsion and attraction,
 // cell shape (doc/model.md, Forces). The quasi-static energy is part of eng_vdwl.
-// fix cgms/fluid sets the dryness and the fluid options, advances m_f and reports
-// the beads the pass found unstable.
+// The fluid pass of a time step first applies the mass transfer of the previous step
+// (m_f += dt dm_f/dt), in the same walk over the rows. fix cgms/fluid sets the dryness
+// and the fluid options and reports the beads the pass found emptied or unstable.
 class PairCGMS : public Pair {
  public:
   PairCGMS(class LAMMPS *);

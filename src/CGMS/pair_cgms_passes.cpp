@@ -257,10 +257,14 @@ struct StabilityScan {
 }    // namespace
 
 /* ----------------------------------------------------------------------
-   fluid state of every local bead: eqns (10-11), density, eqn (4), eqn (9),
+   fluid state of every local bead: in a time step first the mass transfer
+   of the previous step, m_f(n+1) = m_f(n) + dt dm_f/dt(n) (doc/model.md, When
+   the mass transfer is applied), then eqns (10-11), density, eqn (4), eqn (9),
    eqn (7), the pair coefficient, the quasi-static energy, and the beads that
-   break a stability limit (fix cgms/fluid's stop_if_unstable() reports them).
-   The mass transfer of the previous step is fix cgms/fluid's (pre_force).
+   emptied or break a stability limit (fix cgms/fluid's stop_if_unstable()
+   reports them). The update is done here, in the walk over the rows the pass
+   makes anyway: a separate pass in the fix streamed every row once more per
+   step (doc/results/performance.md, 2026-12-03).
 ------------------------------------------------------------------------- */
 
 void PairCGMS::fluid_pass()
@@ -288,6 +292,8 @@ void PairCGMS::fluid_pass()
   p.implicit = options.transfer_implicit;
   p.density_rate = options.density_rate;
   p.balance = options.always_balance || (options.minimize_balance && update->whichflag == 2);
+  const int advance_mass = p.advance && p.transfer;
+  const int inertia_fluid = options.inertia_fluid;
   // its energy is needed only where LAMMPS tallies energies (a second walk over the list)
   const int shape_energy = p.kS > 0.0 && (p.balance || eflag_global);
   StabilityScan scan{step_limits(), p.dt, p.pectin, 0, 0, 0.0};
@@ -305,6 +311,12 @@ void PairCGMS::fluid_pass()
   DrynessLaws at;
   for (int i = 0; i < nlocal; i++) {
     const BeadRow c = cg[i];
+
+    if (advance_mass) {
+      c[MF] += p.dt * c[DMDT];
+      if (!(c[MF] > 0.0) && found.emptied < 0) found.emptied = i;
+      if (inertia_fluid) rmass[i] = c[MF] + c[MS];
+    }
 
     if (c[DRYNESS] != at.s) at.set(c[DRYNESS], mat, periphery);
     const double nn = sums[i].count;

@@ -4,6 +4,8 @@
 """Per-bead updates from one step to the next: mass transfer (eqn 7, explicit Euler),
 the literal rate form of the density (eqns 5-6), and the inertial mass of each mode."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -132,3 +134,23 @@ def test_balance_holds_steady_state_pressure(tmp_path):
     assert np.all(col["dmdt"] == 0.0)
     assert_close("mf", col["mf"], col["rho"] * MAT["height"] * col["area"], rtol=1e-14)
     assert_close("rho", col["rho"], col["dryness"] * MAT["rho0"], rtol=1e-12)
+
+
+def test_emptied_bead_stops_the_run(tmp_path):
+    """A mass transfer that empties a bead (explicit scheme, a dryness jump from 1 to 0.3
+    and a time step of 1e-4 s) stops the step it happens in, naming the bead, its fluid
+    mass and the step; the pair's fluid pass applies the transfer and finds the bead, the
+    fix's scan reports it before any other limit (turgor and damping are off here, so
+    that nothing else stops the run first)."""
+    from cgmstest import run_lmp
+    make_tissue(tmp_path, s=1.0)
+    script = header() + physics(pair_args="turgor no damping no",
+                                fix_args="transfer/scheme explicit") + \
+        "run 0\nset group all d_s 0.3\ntimestep 1e-4\nrun 3\n"
+    run_lmp(tmp_path, script, check=False)
+    errors = [ln for ln in (tmp_path / "log.lammps").read_text().splitlines() if "ERROR" in ln]
+    assert errors, "the run did not stop"
+    m = re.search(r"fluid mass of bead (\d+) became (\S+) at step (\d+): mass transfer is "
+                  r"unstable; reduce the time step \(now 0.0001 s\)", errors[0])
+    assert m, errors[0]
+    assert float(m.group(2)) <= 0.0 and m.group(3) == "1"
