@@ -13,7 +13,9 @@ cells' linear size), the outline bonds split into those along the long sides (fr
 within 30 degrees of the tissue's long axis y) and the short sides; the interior
 network's own shape change (least-squares affine map of the interior bonds: stretch along
 x and y over sqrt(s)); the tissue's extent (centroid span) along y and x over sqrt(s);
-the boundary cells' area and perimeter ratios and elongation against the interior's.
+each boundary cell's least-squares map of its bonds along the outline's tangent and its
+normal (``rim Ftt``, ``rim Fnn``, over sqrt(s)); the boundary cells' area and perimeter
+ratios and elongation against the interior's.
 
     python3 studies/shaped/rim.py [--tissues calibration,...] [--model JSON]
 
@@ -85,6 +87,18 @@ def measure(xy0, xy, s, bonds, rim, kind, cells=None, cells0=None):
     u0 = b0[sp] / np.linalg.norm(b0[sp], axis=1)[:, None]
     r["spoke normal"] = np.mean(np.abs(np.sum(b[sp] * u0, axis=1))
                                 / np.linalg.norm(b0[sp], axis=1)) / np.sqrt(s)
+    # each boundary cell's least-squares F of its bonds, along the outline's tangent t and
+    # its outward normal n (fresh: from the mean of its neighbours to the cell)
+    ftt, fnn = [], []
+    for i in np.flatnonzero(rim):
+        k = np.concatenate([bonds[bonds[:, 0] == i, 1], bonds[bonds[:, 1] == i, 0]])
+        F = np.linalg.lstsq(xy0[k] - xy0[i], xy[k] - xy[i], rcond=None)[0].T
+        n = xy0[i] - xy0[k].mean(axis=0)
+        n /= np.linalg.norm(n)
+        t = np.array([-n[1], n[0]])
+        ftt.append(t @ F @ t)
+        fnn.append(n @ F @ n)
+    r["rim Ftt"], r["rim Fnn"] = np.mean(ftt) / np.sqrt(s), np.mean(fnn) / np.sqrt(s)
     if cells is not None:
         for name, sel in (("rim", rim), ("inner", ~rim)):
             r[f"A {name}"] = np.mean(cells["area"][sel] / cells0["area"][sel])
@@ -106,17 +120,43 @@ def model_states(tissue, params):
     return {f"{s:g}": shaped_tensor.split(z, geo["n"])[0] for s, z, _ in states}
 
 
+def saved_states(tissue, folder):
+    """Bead positions per level of a state file written by table.py --save; with the
+    shape tensors F per level."""
+    from cgms import shaped_tensor
+    d = np.load(Path(folder) / f"{tissue}.npz")
+    n = d["states"].shape[1] // 6
+    out = {f"{s:g}": shaped_tensor.split(z, n) for s, z in zip(d["levels"], d["states"])}
+    return {k: v[0] for k, v in out.items()}, {k: v[1] for k, v in out.items()}
+
+
+def cell_flattening(xy0, F, rim, bonds):
+    """Mean over the boundary cells of their own stretch along the outline over that
+    along its normal, |F t| / |F n| (the tensor variant's cells)."""
+    out = []
+    for i in np.flatnonzero(rim):
+        k = np.concatenate([bonds[bonds[:, 0] == i, 1], bonds[bonds[:, 1] == i, 0]])
+        n = xy0[i] - xy0[k].mean(axis=0)
+        n /= np.linalg.norm(n)
+        t = np.array([-n[1], n[0]])
+        out.append(np.linalg.norm(F[i] @ t) / np.linalg.norm(F[i] @ n))
+    return float(np.mean(out))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tissues", default="calibration,1.5x1.5,1.5x2.0,1.5x2.5,2.0x2.0,"
                     "2.0x2.5,potato-calibration")
     ap.add_argument("--model", default=None, help="JSON parameters of the tensor variant")
+    ap.add_argument("--states", default=None, help="folder of table.py --save states to "
+                    "measure instead of the MFC (adds the boundary cells' |F t| / |F n|)")
     ap.add_argument("--root", default=str(ROOT / "reference" / "mfc"),
                     help="folder of MFC tissue folders (cells.s<s>.csv)")
     args = ap.parse_args(argv)
-    cols = ("outline", "outline long", "outline short", "spoke", "spoke normal", "interior",
-            "interior Fx", "interior Fy", "span x", "span y")
-    extra = () if args.model else ("A rim", "A inner", "P rim", "P inner", "el rim",
+    cols = ("outline", "outline long", "outline short", "spoke", "spoke normal", "rim Ftt",
+            "rim Fnn", "interior", "interior Fx", "interior Fy", "span x", "span y")
+    model = args.model or args.states
+    extra = ("cell Ft/Fn",) if args.states else () if args.model else ("A rim", "A inner", "P rim", "P inner", "el rim",
                                    "el inner")
     print("| tissue | s | " + " | ".join(cols + extra) + " |")
     print("|---|---|" + "---|" * len(cols + extra))
@@ -124,12 +164,16 @@ def main(argv=None):
         xy0, c0 = load(tissue, "1", Path(args.root))
         bonds, rim, kind = classes(xy0)
         states = model_states(tissue, json.loads(args.model)) if args.model else None
+        if args.states:
+            states, Fs = saved_states(tissue, args.states)
         for s in LEVELS:
-            if states is None:
+            if not model:
                 xy, c = load(tissue, s, Path(args.root))
                 r = measure(xy0, xy, float(s), bonds, rim, kind, c, c0)
             else:
                 r = measure(states["1"], states[s], float(s), bonds, rim, kind)
+                if args.states:
+                    r["cell Ft/Fn"] = cell_flattening(states["1"], Fs[s], rim, bonds)
             print(f"| {tissue} | {s} | " + " | ".join(f"{r[k]:.3f}" for k in cols + extra)
                   + " |", flush=True)
     return 0
