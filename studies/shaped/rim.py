@@ -17,11 +17,14 @@ each boundary cell's least-squares map of its bonds along the outline's tangent 
 normal (``rim Ftt``, ``rim Fnn``, over sqrt(s)); the boundary cells' area and perimeter
 ratios and elongation against the interior's.
 
-    python3 studies/shaped/rim.py [--tissues calibration,...] [--model JSON]
+    python3 studies/shaped/rim.py [--tissues calibration,...] [--root FOLDER]
+                                  [--model JSON | --states FOLDER]
 
-``--model JSON`` measures the tensor variant's beads (cgms.shaped_tensor, parameters as
-table.py's --params) on the same bonds instead of the MFC's centroids (1-10 min per
-tissue). A few seconds for the MFC.
+``--root`` reads another MFC run's tissue folders (e.g. a second kick seed). ``--model
+JSON`` measures the tensor variant's beads (cgms.shaped_tensor, parameters as table.py's
+--params, a ramp run here: 1-25 min per tissue) on the same bonds instead of the MFC's
+centroids; ``--states FOLDER`` measures the states table.py --save wrote there and adds
+the boundary cells' own |F t| / |F n|. A few seconds for the MFC.
 """
 
 import argparse
@@ -156,8 +159,12 @@ def main(argv=None):
     cols = ("outline", "outline long", "outline short", "spoke", "spoke normal", "rim Ftt",
             "rim Fnn", "interior", "interior Fx", "interior Fy", "span x", "span y")
     model = args.model or args.states
-    extra = ("cell Ft/Fn",) if args.states else () if args.model else ("A rim", "A inner", "P rim", "P inner", "el rim",
-                                   "el inner")
+    if args.states:
+        extra = ("cell Ft/Fn",)
+    elif args.model:
+        extra = ()
+    else:
+        extra = ("A rim", "A inner", "P rim", "P inner", "el rim", "el inner")
     print("| tissue | s | " + " | ".join(cols + extra) + " |")
     print("|---|---|" + "---|" * len(cols + extra))
     for tissue in args.tissues.split(","):
