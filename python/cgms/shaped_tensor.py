@@ -42,8 +42,11 @@ from . import model, shaped
 #: ``iso``: the share of the bond target that follows only the cell's size and rotation,
 #: sqrt(det F) R(F), rather than its whole deformation F (0: the whole F; 1: the network
 #: ignores the cells' flattening, as the MFC's centroid network nearly does)
+#: ``iso_rim``: the iso of the bonds of class ``rim_class`` instead (None: ``iso`` for
+#: every bond): "rim", the bonds between two boundary cells (those beta scales), or
+#: "boundary", every bond with a boundary cell at one end at least
 DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
-                smooth=0.25, iso=0.0)
+                smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim")
 
 
 def _cof(F):
@@ -98,6 +101,13 @@ def build(xy0, mat, params=None, spacing=None):
                smooth=p["smooth"], iso=p["iso"])
     if p["strip"] not in ("chord", "contour"):
         raise ValueError(f"strip must be 'chord' or 'contour', not {p['strip']!r}")
+    if p["iso_rim"] is not None:
+        # per-bond iso: an array (one per bond) takes the nonlinear path everywhere
+        if p["rim_class"] not in ("rim", "boundary"):
+            raise ValueError(f"rim_class must be 'rim' or 'boundary', not {p['rim_class']!r}")
+        edge = geo["rim"] if p["rim_class"] == "rim" else \
+            geo["boundary"][bonds[:, 0]] | geo["boundary"][bonds[:, 1]]
+        geo["iso"] = np.where(edge, float(p["iso_rim"]), float(p["iso"]))
     if p["void"]:
         _fresh_with_void(geo, mat)
     return geo
@@ -262,9 +272,21 @@ def _iso_scale(F):
     return p, q, phi, gphi, hphi
 
 
+def _linear(iso):
+    """True when every bond target is F d0 (iso 0 for all: the compatibility is linear)."""
+    return np.ndim(iso) == 0 and not iso
+
+
 def _bond_target(F, d0, iso, order=1):
     """v = G(F) d0 per bond, G = (1 - iso) F + iso sqrt(det F) R(F); with dv/dF (b, 2, 4)
-    and, with ``order`` 2, d2v/dF2 (b, 2, 4, 4)."""
+    and, with ``order`` 2, d2v/dF2 (b, 2, 4, 4). ``iso`` a number or one per bond."""
+    if np.ndim(iso):
+        iso = np.asarray(iso, float)[:, None]
+        v, dv, *d2v = _bond_target(F, d0, 1.0, order)
+        lin = _bond_target(F, d0, 0.0, 1)
+        out = ((1 - iso) * lin[0] + iso * v,
+               (1 - iso[:, :, None]) * lin[1] + iso[:, :, None] * dv)
+        return out + (iso[:, :, None, None] * d2v[0],) if order == 2 else out
     e = d0                                       # (M d0)_c = p e_c + q h_c
     h = np.stack([-d0[:, 1], d0[:, 0]], -1)
     p, q, phi, gphi, hphi = _iso_scale(F)
@@ -285,7 +307,7 @@ def _bond_target(F, d0, iso, order=1):
 
 def mismatch(z, lev):
     """Every bond's mismatch m_b (flattened, 2 per bond)."""
-    if not lev["iso"]:
+    if _linear(lev["iso"]):
         return lev["C"] @ z
     x, F = split(z, lev["n"])
     i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
@@ -299,7 +321,7 @@ def compatibility(z, lev, order=1):
     (G(F_i) + G(F_k)) d0_b / 2: its energy and gradient (6n), with ``order`` 2 also its
     Hessian (sparse). With ``iso`` 0 the map is linear (lev["C"])."""
     n, k_g = lev["n"], lev["k_g"]
-    if not lev["iso"]:
+    if _linear(lev["iso"]):
         m = lev["C"] @ z
         out = (0.5 * k_g * m @ m, k_g * (lev["C"].T @ m))
         return out + (k_g * (lev["C"].T @ lev["C"]),) if order == 2 else out

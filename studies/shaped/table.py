@@ -124,8 +124,9 @@ def wall_params(mat, params):
     return p
 
 
-def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped, ens=None):
-    """Rows of one tissue along the ramp: one dict per level."""
+def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped, ens=None, save=None):
+    """Rows of one tissue along the ramp: one dict per level. ``save``: a folder to write
+    the states to (``<tissue>.npz``: levels and one state vector per level)."""
     mat, xy = layout(name)
     t0 = time.time()
     p = wall_params(mat, params)
@@ -133,6 +134,10 @@ def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped, ens=None):
     geo, states = model.ramp(xy, mat, levels, p, ftol=ftol, kick=kick)
     seconds = time.time() - t0
     n = geo["n"]
+    if save:
+        Path(save).mkdir(parents=True, exist_ok=True)
+        np.savez(Path(save) / f"{name}.npz", levels=np.array([s for s, _, _ in states]),
+                 states=np.array([z for _, z, _ in states]))
     p0 = positions(model, states[0][1], n)
     m0 = measures(p0)
     ref0 = mfc(name, 1.0)
@@ -260,6 +265,8 @@ def main(argv=None):
     ap.add_argument("--fit-levels", default="1,0.8,0.6")
     ap.add_argument("--max-nfev", type=int, default=40, help="evaluations the fit may take")
     ap.add_argument("--csv", default=None)
+    ap.add_argument("--save", default=None, help="folder for each tissue's states "
+                    "(<tissue>.npz), e.g. for studies/shaped/rim.py --states")
     ap.add_argument("--ensemble", default=None, help="folder of the calibration tissue's MFC "
                     "ensemble (measures.csv, centroids.s<s>.txt) to judge against its spread")
     args = ap.parse_args(argv)
@@ -275,7 +282,7 @@ def main(argv=None):
               flush=True)
     rows = []
     for name in args.tissues.split(","):
-        rows += run(name, params, levels, model=model, ens=args.ensemble)
+        rows += run(name, params, levels, model=model, ens=args.ensemble, save=args.save)
         print(f"{name}: {rows[-1]['seconds']:.1f} s", file=sys.stderr, flush=True)
     print_rows(rows)
     for lv in ((0.8,), (0.6,), (0.4,), (0.3,)):

@@ -235,3 +235,26 @@ def test_isotropic_target_ignores_the_cells_flattening():
     F = np.broadcast_to(math.sqrt(J) * R @ np.diag([k, 1 / k]) @ R.T @ R, (5, 2, 2))
     v, _ = st._bond_target(np.ascontiguousarray(F), d0, 1.0)
     np.testing.assert_allclose(v, math.sqrt(J) * d0 @ R.T, rtol=0, atol=16 * EPS)
+
+
+@pytest.mark.parametrize("rim_class", ["rim", "boundary"])
+def test_per_bond_iso_derivatives(rim_class):
+    """``iso_rim``: the bonds of the tissue's edge with their own iso (here 0, the cells'
+    whole F) beside the interior's 1, in the gradient and the Hessian."""
+    z, lev = dried_state(s=0.6, seed=9, params=dict(GAP, iso=1.0, iso_rim=0.0,
+                                                      rim_class=rim_class))
+    edge = lev["iso"] == 0.0
+    assert 0 < edge.sum() < len(edge)
+    assert_derivatives(z, lev)
+
+
+def test_per_bond_iso_of_one_value_is_the_uniform_iso():
+    """One iso given per bond gives the energy and gradient of that iso for all (to
+    rounding: the per-bond path sums the same terms in another grouping)."""
+    z, lev = dried_state(s=0.6, seed=9, params=dict(GAP, iso=0.7))
+    _, lev_b = dried_state(s=0.6, seed=9, params=dict(GAP, iso=0.7, iso_rim=0.7))
+    assert np.ndim(lev_b["iso"]) == 1
+    E, g = st.energy(z, lev)
+    E_b, g_b = st.energy(z, lev_b)
+    assert abs(E_b - E) <= 64 * EPS * (abs(E) + gradient_scale(z, lev))
+    np.testing.assert_allclose(g_b, g, rtol=0, atol=64 * EPS * np.abs(g).max())
