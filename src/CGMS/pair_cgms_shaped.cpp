@@ -36,7 +36,7 @@ PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
     Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
     iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
     iboundary(-1), iforce(-1), nb_max(0), wall_max(0), target(nullptr), nmax_target(0),
-    min_x(nullptr), min_f(nullptr), nmax_min(0)
+    min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -230,7 +230,6 @@ void PairCGMSShaped::find_properties()
                nb_max, ncols_bondy);
 
   add_force_property();
-  scratch.resize(6 * (size_t) wall_max);
 }
 
 /* ----------------------------------------------------------------------
@@ -314,6 +313,7 @@ void PairCGMSShaped::init_style()
                update->minimize_style);
   find_properties();
   fresh_strain_and_bond_length();
+  cache_current = 0;
   // a power of two near x_ref: the minimiser's dof_scale F and F convert exactly
   dof_scale = std::ldexp(1.0, (int) std::lround(std::log2(mat.x_ref)));
   if (update->whichflag == 2) update->minimize->request(this, 4, 0.1 * dof_scale);
@@ -406,10 +406,59 @@ void PairCGMSShaped::check_topology()
 }
 
 /* ----------------------------------------------------------------------
+   the fixed per-bead data the kernels would otherwise derive again at every force
+   evaluation, in the local order of the new neighbour list: the walls' rest lengths
+   r_e = c(s) |d0_e| / (1 + eps), their sum and the fresh fluid area s A_f of every cell,
+   and per fresh bond the closest image of the neighbour and f/2, f = beta(s) on rim bonds
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::cache_fresh_data()
+{
+  const int nlocal = atom->nlocal;
+  const double w = par.lamella * mat.pectin;
+  const double contraction = mat.perimeter_contraction(dryness);
+  const double beta = CGMS::beta(par.beta_a, par.beta_b, dryness);
+  const int *nwall = atom->ivector[inwall];
+  const double *area0 = atom->dvector[iarea];
+  const int *boundary = atom->ivector[iboundary];
+  double **wallx = atom->darray[iwallx], **wally = atom->darray[iwally];
+  int **nb = atom->iarray[inb];
+
+  wall_rest.resize((size_t) nlocal * wall_max);
+  rest_sum.resize(nlocal);
+  fluid_area0.resize(nlocal);
+  bond_j.resize((size_t) nlocal * nb_max);
+  bond_half_f.resize((size_t) nlocal * nb_max);
+  for (int i = 0; i < nlocal; i++) {
+    double *rest = &wall_rest[(size_t) i * wall_max];
+    double L0 = 0.0, R = 0.0;
+    for (int e = 0; e < nwall[i]; e++) {
+      const double dx = wallx[i][e], dy = wally[i][e];
+      const double chord0 = std::sqrt(dx * dx + dy * dy);
+      L0 += chord0;
+      rest[e] = chord0 / (1.0 + eps) * contraction;
+      R += rest[e];
+    }
+    rest_sum[i] = R;
+    fluid_area0[i] = dryness * CGMS::Shaped::fresh_fluid_area(area0[i], L0, par.void_frac, w);
+    for (int b = 0; b < nb_max; b++) {
+      const size_t ib = (size_t) i * nb_max + b;
+      bond_j[ib] = -1;
+      if (nb[i][b] <= 0) continue;
+      // check_topology has made sure that every fresh neighbour is here
+      const int j = domain->closest_image(i, atom->map(nb[i][b]));
+      bond_j[ib] = j;
+      bond_half_f[ib] = 0.5 * (boundary[i] && boundary[j] ? beta : 1.0);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
    cell i's fluid and wall energy and its derivative dE/dF (shaped_tensor.energy):
-   walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e = c(s) |d0_e| /
-   (1 + eps); fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1
-   when A <= 0 (infinite energy, no gradient)
+   walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e (cached);
+   fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1 when
+   A <= 0 (infinite energy, no gradient). One pass over the walls: dl_e/dF = u_e (x) d0_e
+   is summed at once into the chord sum's, the strip's and the walls' gradients.
 ------------------------------------------------------------------------- */
 
 double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
@@ -418,31 +467,35 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   const double *d0x = atom->darray[iwallx][i], *d0y = atom->darray[iwally][i];
   const int nw = atom->ivector[inwall][i];
   const double area0 = atom->dvector[iarea][i];
-  const double s = dryness;
+  const double *rest = &wall_rest[(size_t) i * wall_max];
   const double w = par.lamella * mat.pectin;
-  const double contraction = mat.perimeter_contraction(s);
-  double *u0 = scratch.data(), *u1 = u0 + wall_max, *len = u1 + wall_max;
-  double *rest = len + wall_max, *m1 = rest + wall_max, *de = m1 + wall_max;
+  const double EA = par.wall_EA, buckle = par.buckle, soft = par.soft;
+  const double smooth_eps = par.smooth * eps;
+  const int contour = par.contour;
 
-  double L0 = 0.0, rest_sum = 0.0, S = 0.0, sum_m = 0.0;
+  double S = 0.0, sum_m = 0.0, wall = 0.0;
+  double gS[4] = {0.0, 0.0, 0.0, 0.0}, gm[4] = {0.0, 0.0, 0.0, 0.0}, gw[4] = {0.0, 0.0, 0.0, 0.0};
   for (int e = 0; e < nw; e++) {
     const double dx = d0x[e], dy = d0y[e];
-    const double chord0 = std::sqrt(dx * dx + dy * dy);
-    L0 += chord0;
-    rest[e] = chord0 / (1.0 + eps) * contraction;
-    rest_sum += rest[e];
     const double c0 = F[0] * dx + F[1] * dy, c1 = F[2] * dx + F[3] * dy;
-    len[e] = std::sqrt(c0 * c0 + c1 * c1);
-    u0[e] = c0 / len[e];
-    u1[e] = c1 / len[e];
-    S += len[e];
-    sum_m += CGMS::Shaped::contour_length(len[e], rest[e], par.smooth * eps * rest[e], par.contour,
-                                          m1[e]);
+    const double len = std::sqrt(c0 * c0 + c1 * c1);
+    const double u0 = c0 / len, u1 = c1 / len;
+    double m1, de;
+    S += len;
+    sum_m += CGMS::Shaped::contour_length(len, rest[e], smooth_eps * rest[e], contour, m1);
+    wall += CGMS::Shaped::wall_energy(len, rest[e], EA, buckle, soft, de);
+    const double gl[4] = {u0 * dx, u0 * dy, u1 * dx, u1 * dy};
+    for (int k = 0; k < 4; k++) {
+      gS[k] += gl[k];
+      gm[k] += m1 * gl[k];
+      gw[k] += de * gl[k];
+    }
   }
-  const double A_f = s * CGMS::Shaped::fresh_fluid_area(area0, L0, par.void_frac, w);
-  const double P_T = s * mat.P_f;
+  const double A_f = fluid_area0[i];
+  const double P_T = dryness * mat.P_f;
   double psi = 0.0, p1 = 0.0;
-  if (par.void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum, par.void_onset * eps, p1);
+  if (par.void_frac != 0.0)
+    psi = CGMS::Shaped::void_open(S, rest_sum[i], par.void_onset * eps, p1);
   const double det = F[0] * F[3] - F[1] * F[2];
   const double D = det * area0;
   const double A = D * (1.0 - par.void_frac * psi) - w * sum_m;
@@ -452,22 +505,11 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
     return 0.0;
   }
 
-  double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height);
-  for (int e = 0; e < nw; e++)
-    energy += CGMS::Shaped::wall_energy(len[e], rest[e], par.wall_EA, par.buckle, par.soft, de[e]);
+  const double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height) + wall;
   const double f1 = -mat.height * CGMS::Shaped::fluid_pressure(A, A_f, P_T, mat.K);
 
-  // dl_e/dF = u_e (x) d0_e; gA = gD (1 - void psi) - void D p1 gS - w sum m1 gl
+  // gA = gD (1 - void psi) - void D p1 gS - w sum m1 gl
   const double gD[4] = {area0 * F[3], -area0 * F[2], -area0 * F[1], area0 * F[0]};
-  double gS[4] = {0.0, 0.0, 0.0, 0.0}, gm[4] = {0.0, 0.0, 0.0, 0.0}, gw[4] = {0.0, 0.0, 0.0, 0.0};
-  for (int e = 0; e < nw; e++) {
-    const double gl[4] = {u0[e] * d0x[e], u0[e] * d0y[e], u1[e] * d0x[e], u1[e] * d0y[e]};
-    for (int k = 0; k < 4; k++) {
-      gS[k] += gl[k];
-      gm[k] += m1[e] * gl[k];
-      gw[k] += de[e] * gl[k];
-    }
-  }
   for (int k = 0; k < 4; k++) {
     const double gA =
         gD[k] * (1.0 - par.void_frac * psi) - par.void_frac * (D * p1) * gS[k] - w * gm[k];
@@ -480,45 +522,46 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
    bead i's fresh bonds, each in full: k_g/2 |m|^2 with m = x_k - x_i - f (G(F_i) + G(F_k))
    d0_ik / 2, f = beta(s) on rim bonds (both beads on the boundary); the energy is halved
    (bead k's owner evaluates the same bond), the force k_g m goes to bead i alone and
-   k_g m dm/dF_i into dEdF
+   k_g m dm/dF_i into dEdF. dm_c/dF_i = -f/2 sum_n dG[2c + n] d0_n, so the bonds' sum
+   of f/2 m_c d0_n is gathered first and contracted with dG once.
 ------------------------------------------------------------------------- */
 
 double PairCGMSShaped::bond_terms(int i, double *dEdF)
 {
   double **x = atom->x;
   double **f = atom->f;
-  const int *nb = atom->iarray[inb][i];
   const double *d0x = atom->darray[ibondx][i], *d0y = atom->darray[ibondy][i];
-  const int *boundary = atom->ivector[iboundary];
+  const int *jb = &bond_j[(size_t) i * nb_max];
+  const double *half_f = &bond_half_f[(size_t) i * nb_max];
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
-  const double beta = CGMS::beta(par.beta_a, par.beta_b, dryness);
-  double G[4], dG[4][4];
-  CGMS::Shaped::bond_target(atom->darray[iF][i], par.iso, G, dG);
+  const double *G = target + 4 * i;
+  const double xi = x[i][0], yi = x[i][1];
 
-  double energy = 0.0;
+  double energy = 0.0, fxi = 0.0, fyi = 0.0;
+  double md[4] = {0.0, 0.0, 0.0, 0.0};    // sum over bonds of f/2 (m0 dx, m0 dy, m1 dx, m1 dy)
   for (int b = 0; b < nb_max; b++) {
-    if (nb[b] <= 0) continue;
-    const int j = domain->closest_image(i, atom->map(nb[b]));
+    const int j = jb[b];
+    if (j < 0) continue;
     const double dx = d0x[b], dy = d0y[b];
-    const double fb = boundary[i] && boundary[j] ? beta : 1.0;
+    const double hf = half_f[b];
     const double *Gj = target + 4 * j;
     const double t0 = G[0] * dx + G[1] * dy + (Gj[0] * dx + Gj[1] * dy);
     const double t1 = G[2] * dx + G[3] * dy + (Gj[2] * dx + Gj[3] * dy);
-    const double m0 = x[j][0] - x[i][0] - 0.5 * fb * t0;
-    const double m1 = x[j][1] - x[i][1] - 0.5 * fb * t1;
+    const double m0 = x[j][0] - xi - hf * t0;
+    const double m1 = x[j][1] - yi - hf * t1;
     const double e = 0.25 * k_g * (m0 * m0 + m1 * m1);
     const double fx = k_g * m0, fy = k_g * m1;
-    f[i][0] += fx;
-    f[i][1] += fy;
-    // dm_c/dF_k = -f/2 sum_j dG[2c + j][k] d0_j
-    for (int k = 0; k < 4; k++)
-      dEdF[k] -= 0.5 * fb * k_g *
-          (m0 * (dG[0][k] * dx + dG[1][k] * dy) + m1 * (dG[2][k] * dx + dG[3][k] * dy));
+    fxi += fx;
+    fyi += fy;
+    md[0] += hf * m0 * dx;
+    md[1] += hf * m0 * dy;
+    md[2] += hf * m1 * dx;
+    md[3] += hf * m1 * dy;
     energy += e;
     if (eflag_atom) eatom[i] += e;
     if (vflag_either) {
       // half the bond's virial r_ik (x) f_i, the other half from bead k's owner
-      const double delx = x[i][0] - x[j][0], dely = x[i][1] - x[j][1];
+      const double delx = xi - x[j][0], dely = yi - x[j][1];
       const double v[6] = {0.5 * delx * fx, 0.5 * dely * fy, 0.0, 0.5 * delx * fy, 0.0, 0.0};
       for (int n = 0; n < 6; n++) {
         if (vflag_global) virial[n] += v[n];
@@ -526,6 +569,12 @@ double PairCGMSShaped::bond_terms(int i, double *dEdF)
       }
     }
   }
+  f[i][0] += fxi;
+  f[i][1] += fyi;
+  double Gi[4], dG[4][4];
+  CGMS::Shaped::bond_target(atom->darray[iF][i], par.iso, Gi, dG);
+  for (int k = 0; k < 4; k++)
+    dEdF[k] -= k_g * (md[0] * dG[0][k] + md[1] * dG[1][k] + md[2] * dG[2][k] + md[3] * dG[3][k]);
   return energy;
 }
 
@@ -583,7 +632,13 @@ void PairCGMSShaped::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
   comm->forward_comm(this);
-  if (neighbor->ago == 0) check_topology();
+  // the local order changes only with a new neighbour list; init_style (new settings,
+  // data changed by 'set', 'run 0 pre no') also asks for a new cache
+  if (neighbor->ago == 0 || !cache_current) {
+    check_topology();
+    cache_fresh_data();
+    cache_current = 1;
+  }
 
   // G(F) of every local and ghost bead, for the bonds
   const int nall = atom->nlocal + atom->nghost;
