@@ -425,6 +425,7 @@ void PairCGMSShaped::cache_fresh_data()
   int **nb = atom->iarray[inb];
 
   wall_rest.resize((size_t) nlocal * wall_max);
+  wall_scratch.resize(3 * (size_t) wall_max);
   rest_sum.resize(nlocal);
   fluid_area0.resize(nlocal);
   bond_j.resize((size_t) nlocal * nb_max);
@@ -457,8 +458,10 @@ void PairCGMSShaped::cache_fresh_data()
    cell i's fluid and wall energy and its derivative dE/dF (shaped_tensor.energy):
    walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e (cached);
    fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1 when
-   A <= 0 (infinite energy, no gradient). One pass over the walls: dl_e/dF = u_e (x) d0_e
-   is summed at once into the chord sum's, the strip's and the walls' gradients.
+   A <= 0 (infinite energy, no gradient). dl_e/dF = F d0_e d0_e^T / l_e, so
+   dE/dF = -H P dD/dF (1 - void psi) + F sum_e c_e d0_e d0_e^T / l_e with one scalar c_e
+   per wall (the chord sum's, the strip's and the wall's share): the first pass over the
+   walls finds l_e, the second, once P is known, sums the symmetric 2x2 matrices.
 ------------------------------------------------------------------------- */
 
 double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
@@ -468,28 +471,21 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   const int nw = atom->ivector[inwall][i];
   const double area0 = atom->dvector[iarea][i];
   const double *rest = &wall_rest[(size_t) i * wall_max];
+  double *inv_len = wall_scratch.data(), *m1 = inv_len + wall_max, *de = m1 + wall_max;
   const double w = par.lamella * mat.pectin;
   const double EA = par.wall_EA, buckle = par.buckle, soft = par.soft;
   const double smooth_eps = par.smooth * eps;
   const int contour = par.contour;
 
   double S = 0.0, sum_m = 0.0, wall = 0.0;
-  double gS[4] = {0.0, 0.0, 0.0, 0.0}, gm[4] = {0.0, 0.0, 0.0, 0.0}, gw[4] = {0.0, 0.0, 0.0, 0.0};
   for (int e = 0; e < nw; e++) {
     const double dx = d0x[e], dy = d0y[e];
     const double c0 = F[0] * dx + F[1] * dy, c1 = F[2] * dx + F[3] * dy;
     const double len = std::sqrt(c0 * c0 + c1 * c1);
-    const double u0 = c0 / len, u1 = c1 / len;
-    double m1, de;
+    inv_len[e] = 1.0 / len;
     S += len;
-    sum_m += CGMS::Shaped::contour_length(len, rest[e], smooth_eps * rest[e], contour, m1);
-    wall += CGMS::Shaped::wall_energy(len, rest[e], EA, buckle, soft, de);
-    const double gl[4] = {u0 * dx, u0 * dy, u1 * dx, u1 * dy};
-    for (int k = 0; k < 4; k++) {
-      gS[k] += gl[k];
-      gm[k] += m1 * gl[k];
-      gw[k] += de * gl[k];
-    }
+    sum_m += CGMS::Shaped::contour_length(len, rest[e], smooth_eps * rest[e], contour, m1[e]);
+    wall += CGMS::Shaped::wall_energy(len, rest[e], EA, buckle, soft, de[e]);
   }
   const double A_f = fluid_area0[i];
   const double P_T = dryness * mat.P_f;
@@ -508,13 +504,22 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   const double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height) + wall;
   const double f1 = -mat.height * CGMS::Shaped::fluid_pressure(A, A_f, P_T, mat.K);
 
-  // gA = gD (1 - void psi) - void D p1 gS - w sum m1 gl
-  const double gD[4] = {area0 * F[3], -area0 * F[2], -area0 * F[1], area0 * F[0]};
-  for (int k = 0; k < 4; k++) {
-    const double gA =
-        gD[k] * (1.0 - par.void_frac * psi) - par.void_frac * (D * p1) * gS[k] - w * gm[k];
-    dEdF[k] = f1 * gA + gw[k];
+  // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
+  const double c_S = -f1 * par.void_frac * D * p1, c_m = -f1 * w;
+  double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
+  for (int e = 0; e < nw; e++) {
+    const double c = (c_S + c_m * m1[e] + de[e]) * inv_len[e];
+    const double dx = d0x[e], dy = d0y[e];
+    Mxx += c * dx * dx;
+    Mxy += c * dx * dy;
+    Myy += c * dy * dy;
   }
+  // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
+  const double fD = f1 * area0 * (1.0 - par.void_frac * psi);
+  dEdF[0] = fD * F[3] + F[0] * Mxx + F[1] * Mxy;
+  dEdF[1] = -fD * F[2] + F[0] * Mxy + F[1] * Myy;
+  dEdF[2] = -fD * F[1] + F[2] * Mxx + F[3] * Mxy;
+  dEdF[3] = fD * F[0] + F[2] * Mxy + F[3] * Myy;
   return energy;
 }
 
@@ -578,14 +583,31 @@ double PairCGMSShaped::bond_terms(int i, double *dEdF)
   return energy;
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   the pairs of the neighbour list that were not fresh neighbours (the LJ repulsion's),
+   gathered once per neighbour list: (i, j) as pair_j[pair_first[ii] ..]
+------------------------------------------------------------------------- */
 
-bool PairCGMSShaped::fresh_neighbour(int i, tagint t) const
+void PairCGMSShaped::exclude_fresh_pairs()
 {
-  const int *nb = atom->iarray[inb][i];
-  for (int b = 0; b < nb_max; b++)
-    if (nb[b] == t) return true;
-  return false;
+  const tagint *tag = atom->tag;
+  int **nbs = atom->iarray[inb];
+  pair_first.resize(list->inum + 1);
+  pair_j.clear();
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *nb = nbs[i];
+    const int *jlist = list->firstneigh[i];
+    pair_first[ii] = (int) pair_j.size();
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      bool fresh = false;
+      for (int b = 0; b < nb_max; b++)
+        if (nb[b] == tag[j]) fresh = true;
+      if (!fresh) pair_j.push_back(j);
+    }
+  }
+  pair_first[list->inum] = (int) pair_j.size();
 }
 
 /* ----------------------------------------------------------------------
@@ -597,20 +619,20 @@ void PairCGMSShaped::lj_terms()
 {
   double **x = atom->x;
   double **f = atom->f;
-  const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   const double rad = mat.lj_radius(dryness);
   const double radsq = rad * rad;
   const double f0 = mat.f0_r;
+  const int *jlist = pair_j.data();
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
-    const int *jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double delx = x[i][0] - x[j][0], dely = x[i][1] - x[j][1];
+    const double xi = x[i][0], yi = x[i][1];
+    for (int jj = pair_first[ii]; jj < pair_first[ii + 1]; jj++) {
+      const int j = jlist[jj];
+      const double delx = xi - x[j][0], dely = yi - x[j][1];
       const double rsq = delx * delx + dely * dely;
-      if (rsq >= radsq || fresh_neighbour(i, tag[j])) continue;
+      if (rsq >= radsq) continue;
       const double r2inv = 1.0 / rsq;
       const double q2 = radsq * r2inv, q4 = q2 * q2, q8 = q4 * q4;
       const double fpair = f0 * (q8 - q4) * r2inv;
@@ -637,6 +659,7 @@ void PairCGMSShaped::compute(int eflag, int vflag)
   if (neighbor->ago == 0 || !cache_current) {
     check_topology();
     cache_fresh_data();
+    exclude_fresh_pairs();
     cache_current = 1;
   }
 
