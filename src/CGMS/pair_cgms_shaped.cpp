@@ -576,10 +576,9 @@ double PairCGMSShaped::bond_terms(int i, double *dEdF)
   }
   f[i][0] += fxi;
   f[i][1] += fyi;
-  double Gi[4], dG[4][4];
-  CGMS::Shaped::bond_target(atom->darray[iF][i], par.iso, Gi, dG);
-  for (int k = 0; k < 4; k++)
-    dEdF[k] -= k_g * (md[0] * dG[0][k] + md[1] * dG[1][k] + md[2] * dG[2][k] + md[3] * dG[3][k]);
+  double dm[4];
+  CGMS::Shaped::bond_target_pullback(atom->darray[iF][i], par.iso, md, dm);
+  for (int k = 0; k < 4; k++) dEdF[k] -= k_g * dm[k];
   return energy;
 }
 
