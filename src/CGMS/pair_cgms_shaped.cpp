@@ -542,30 +542,30 @@ double PairCGMSShaped::bond_terms(int i, double *dEdF)
   const double *G = target + 4 * i;
   const double xi = x[i][0], yi = x[i][1];
 
-  double energy = 0.0, fxi = 0.0, fyi = 0.0;
-  double md[4] = {0.0, 0.0, 0.0, 0.0};    // sum over bonds of f/2 (m0 dx, m0 dy, m1 dx, m1 dy)
+  // sums over the bonds: |m|^2, m, and f/2 (m0 dx, m0 dy, m1 dx, m1 dy); k_g once at the end
+  double msq = 0.0, mx = 0.0, my = 0.0;
+  double md[4] = {0.0, 0.0, 0.0, 0.0};
   for (int b = 0; b < nb_max; b++) {
     const int j = jb[b];
     if (j < 0) continue;
     const double dx = d0x[b], dy = d0y[b];
     const double hf = half_f[b];
     const double *Gj = target + 4 * j;
-    const double t0 = G[0] * dx + G[1] * dy + (Gj[0] * dx + Gj[1] * dy);
-    const double t1 = G[2] * dx + G[3] * dy + (Gj[2] * dx + Gj[3] * dy);
+    const double t0 = (G[0] + Gj[0]) * dx + (G[1] + Gj[1]) * dy;
+    const double t1 = (G[2] + Gj[2]) * dx + (G[3] + Gj[3]) * dy;
     const double m0 = x[j][0] - xi - hf * t0;
     const double m1 = x[j][1] - yi - hf * t1;
-    const double e = 0.25 * k_g * (m0 * m0 + m1 * m1);
-    const double fx = k_g * m0, fy = k_g * m1;
-    fxi += fx;
-    fyi += fy;
-    md[0] += hf * m0 * dx;
-    md[1] += hf * m0 * dy;
-    md[2] += hf * m1 * dx;
-    md[3] += hf * m1 * dy;
-    energy += e;
-    if (eflag_atom) eatom[i] += e;
+    msq += m0 * m0 + m1 * m1;
+    mx += m0;
+    my += m1;
+    const double a0 = hf * m0, a1 = hf * m1;
+    md[0] += a0 * dx;
+    md[1] += a0 * dy;
+    md[2] += a1 * dx;
+    md[3] += a1 * dy;
     if (vflag_either) {
       // half the bond's virial r_ik (x) f_i, the other half from bead k's owner
+      const double fx = k_g * m0, fy = k_g * m1;
       const double delx = xi - x[j][0], dely = yi - x[j][1];
       const double v[6] = {0.5 * delx * fx, 0.5 * dely * fy, 0.0, 0.5 * delx * fy, 0.0, 0.0};
       for (int n = 0; n < 6; n++) {
@@ -574,8 +574,10 @@ double PairCGMSShaped::bond_terms(int i, double *dEdF)
       }
     }
   }
-  f[i][0] += fxi;
-  f[i][1] += fyi;
+  const double energy = 0.25 * k_g * msq;
+  if (eflag_atom) eatom[i] += energy;
+  f[i][0] += k_g * mx;
+  f[i][1] += k_g * my;
   double dm[4];
   CGMS::Shaped::bond_target_pullback(atom->darray[iF][i], par.iso, md, dm);
   for (int k = 0; k < 4; k++) dEdF[k] -= k_g * dm[k];
