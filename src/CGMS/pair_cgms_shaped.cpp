@@ -770,5 +770,9 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 
 double PairCGMSShaped::memory_usage()
 {
-  return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double);
+  const double caches =
+      (double) (wall_rest.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
+                fluid_area0.capacity() + bond_half_f.capacity()) * sizeof(double) +
+      (double) (bond_j.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
+  return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double) + caches;
 }
