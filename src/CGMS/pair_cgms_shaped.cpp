@@ -490,8 +490,7 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   const double A_f = fluid_area0[i];
   const double P_T = dryness * mat.P_f;
   double psi = 0.0, p1 = 0.0;
-  if (par.void_frac != 0.0)
-    psi = CGMS::Shaped::void_open(S, rest_sum[i], par.void_onset * eps, p1);
+  if (par.void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum[i], par.void_onset * eps, p1);
   const double det = F[0] * F[3] - F[1] * F[2];
   const double D = det * area0;
   const double A = D * (1.0 - par.void_frac * psi) - w * sum_m;
@@ -772,7 +771,8 @@ double PairCGMSShaped::memory_usage()
 {
   const double caches =
       (double) (wall_rest.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
-                fluid_area0.capacity() + bond_half_f.capacity()) * sizeof(double) +
+                fluid_area0.capacity() + bond_half_f.capacity()) *
+          sizeof(double) +
       (double) (bond_j.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
   return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double) + caches;
 }

@@ -71,8 +71,8 @@ class PairCGMSShaped : public Pair {
   std::vector<double> wall_rest, rest_sum, fluid_area0, bond_half_f;
   std::vector<int> bond_j;
   std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
-  std::vector<double> wall_scratch;    // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
-  int cache_current;    // 0 after init_style: rebuild before the next evaluation
+  std::vector<double> wall_scratch;       // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
+  int cache_current;                      // 0 after init_style: rebuild before the next evaluation
 
   void add_force_property();
   void find_properties();
