@@ -40,6 +40,8 @@ def main(argv=None):
     ap.add_argument("--ftol", type=float, default=1e-9)
     ap.add_argument("--maxiter", type=int, default=20000)
     ap.add_argument("--nprocs", type=int, default=1)
+    ap.add_argument("--line", default="forcezero", choices=["forcezero", "quadratic", "backtrack"],
+                    help="the minimiser's line search (min_modify line)")
     ap.add_argument("--out", type=Path, default=Path("/tmp/cgms-shaped-macro"))
     args = ap.parse_args(argv)
     args.out.mkdir(parents=True, exist_ok=True)
@@ -60,7 +62,7 @@ def main(argv=None):
         shaped_data.fix_command(b), shaped_data.read_command("macro.data"),
         "neighbor 1.5e-5 bin", "neigh_modify every 1 delay 0 check yes",
         shaped_data.pair_style(s, BEST), f"pair_coeff * * {material.find('apple')}",
-        "min_style cg", "min_modify dmax 1e-6 norm max line forcezero", "thermo 1000",
+        "min_style cg", f"min_modify dmax 1e-6 norm max line {args.line}", "thermo 1000",
         f"minimize 0 {args.ftol} {args.maxiter} {10 * args.maxiter}", ""])
     (args.out / "in.macro").write_text(text)
     cmd = [os.environ["CGMS_LMP"], "-in", "in.macro", "-log", "log.lammps", "-nocite",

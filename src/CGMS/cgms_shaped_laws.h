@@ -114,39 +114,46 @@ namespace CGMS {
     }
 
     // the bond target G(F) = (1 - iso) F + iso sqrt(det F) R(F), R the rotation of F's polar
-    // decomposition, R = [[p, -q], [q, p]] / |(p, q)|, p = a + d, q = c - b; with dG[m][k] =
-    // dG_m / dF_k (shaped_tensor._bond_target). False when iso > 0 and det F <= 0 (no
-    // polar rotation of an inverted cell).
-    inline bool bond_target(const double *F, double iso, double *G, double (*dG)[4] = nullptr)
+    // decomposition, R = [[p, -q], [q, p]] / |(p, q)|, p = a + d, q = c - b
+    // (shaped_tensor._bond_target). False when iso > 0 and det F <= 0 (no polar rotation of
+    // an inverted cell).
+    inline bool bond_target(const double *F, double iso, double *G)
     {
       const double a = F[0], b = F[1], c = F[2], d = F[3];
       for (int m = 0; m < 4; m++) G[m] = (1.0 - iso) * F[m];
-      if (dG)
-        for (int m = 0; m < 4; m++)
-          for (int k = 0; k < 4; k++) dG[m][k] = m == k ? 1.0 - iso : 0.0;
       if (iso == 0.0) return true;
       const double J = a * d - b * c;
       if (!(J > 0.0)) return false;
       const double p = a + d, q = c - b;
-      const double r = std::sqrt(p * p + q * q);
-      const double phi = std::sqrt(J) / r;
+      const double phi = std::sqrt(J) / std::sqrt(p * p + q * q);
       const double M[4] = {p, -q, q, p};
       for (int m = 0; m < 4; m++) G[m] += iso * phi * M[m];
-      if (dG) {
-        const double DP[4] = {1.0, 0.0, 0.0, 1.0}, DQ[4] = {0.0, -1.0, 1.0, 0.0};
-        const double gJ[4] = {d, -c, -b, a};
-        double gphi[4];
-        for (int k = 0; k < 4; k++) {
-          const double gr = (p * DP[k] + q * DQ[k]) / r;
-          gphi[k] = phi * (gJ[k] / (2.0 * J) - gr / r);
-        }
-        // dM/dF: M11 = M22 = p, M21 = -M12 = q
-        const double *dM[4] = {DP, DQ, DQ, DP};
-        const double sign[4] = {1.0, -1.0, 1.0, 1.0};
-        for (int m = 0; m < 4; m++)
-          for (int k = 0; k < 4; k++) dG[m][k] += iso * (M[m] * gphi[k] + phi * sign[m] * dM[m][k]);
-      }
       return true;
+    }
+
+    // the pull-back of a vector v through the bond target's derivative, out_k = sum_m v_m
+    // dG_m/dF_k, without forming the 4x4 dG: with G = (1 - iso) F + iso phi M, phi =
+    // sqrt(J) / r, r = |(p, q)|, M = (p, -q, q, p), dG_m/dF_k = (1 - iso) delta_mk +
+    // iso (M_m dphi/dF_k + phi dM_m/dF_k), dp/dF = (1, 0, 0, 1), dq/dF = (0, -1, 1, 0),
+    // dphi/dF = phi (cof(F) / (2 J) - (p dp/dF + q dq/dF) / r^2). Needs det F > 0 when
+    // iso > 0 (bond_target true).
+    inline void bond_target_pullback(const double *F, double iso, const double *v, double *out)
+    {
+      for (int k = 0; k < 4; k++) out[k] = (1.0 - iso) * v[k];
+      if (iso == 0.0) return;
+      const double a = F[0], b = F[1], c = F[2], d = F[3];
+      const double J = a * d - b * c;
+      const double p = a + d, q = c - b;
+      const double r2 = p * p + q * q;
+      const double phi = std::sqrt(J) / std::sqrt(r2);
+      const double vM = v[0] * p - v[1] * q + v[2] * q + v[3] * p;
+      const double vp = v[0] + v[3], vq = v[2] - v[1];    // v . dM/dp and v . dM/dq
+      const double gJ[4] = {d, -c, -b, a};
+      const double DP[4] = {1.0, 0.0, 0.0, 1.0}, DQ[4] = {0.0, -1.0, 1.0, 0.0};
+      for (int k = 0; k < 4; k++) {
+        const double gphi = phi * (gJ[k] / (2.0 * J) - (p * DP[k] + q * DQ[k]) / r2);
+        out[k] += iso * (vM * gphi + phi * (vp * DP[k] + vq * DQ[k]));
+      }
     }
 
   }    // namespace Shaped

@@ -36,7 +36,7 @@ PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
     Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
     iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
     iboundary(-1), iforce(-1), nb_max(0), wall_max(0), target(nullptr), nmax_target(0),
-    min_x(nullptr), min_f(nullptr), nmax_min(0)
+    min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
 {
   single_enable = 0;
   restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
@@ -230,7 +230,6 @@ void PairCGMSShaped::find_properties()
                nb_max, ncols_bondy);
 
   add_force_property();
-  scratch.resize(6 * (size_t) wall_max);
 }
 
 /* ----------------------------------------------------------------------
@@ -314,6 +313,7 @@ void PairCGMSShaped::init_style()
                update->minimize_style);
   find_properties();
   fresh_strain_and_bond_length();
+  cache_current = 0;
   // a power of two near x_ref: the minimiser's dof_scale F and F convert exactly
   dof_scale = std::ldexp(1.0, (int) std::lround(std::log2(mat.x_ref)));
   if (update->whichflag == 2) update->minimize->request(this, 4, 0.1 * dof_scale);
@@ -406,10 +406,62 @@ void PairCGMSShaped::check_topology()
 }
 
 /* ----------------------------------------------------------------------
+   the fixed per-bead data the kernels would otherwise derive again at every force
+   evaluation, in the local order of the new neighbour list: the walls' rest lengths
+   r_e = c(s) |d0_e| / (1 + eps), their sum and the fresh fluid area s A_f of every cell,
+   and per fresh bond the closest image of the neighbour and f/2, f = beta(s) on rim bonds
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::cache_fresh_data()
+{
+  const int nlocal = atom->nlocal;
+  const double w = par.lamella * mat.pectin;
+  const double contraction = mat.perimeter_contraction(dryness);
+  const double beta = CGMS::beta(par.beta_a, par.beta_b, dryness);
+  const int *nwall = atom->ivector[inwall];
+  const double *area0 = atom->dvector[iarea];
+  const int *boundary = atom->ivector[iboundary];
+  double **wallx = atom->darray[iwallx], **wally = atom->darray[iwally];
+  int **nb = atom->iarray[inb];
+
+  wall_rest.resize((size_t) nlocal * wall_max);
+  wall_scratch.resize(3 * (size_t) wall_max);
+  rest_sum.resize(nlocal);
+  fluid_area0.resize(nlocal);
+  bond_j.resize((size_t) nlocal * nb_max);
+  bond_half_f.resize((size_t) nlocal * nb_max);
+  for (int i = 0; i < nlocal; i++) {
+    double *rest = &wall_rest[(size_t) i * wall_max];
+    double L0 = 0.0, R = 0.0;
+    for (int e = 0; e < nwall[i]; e++) {
+      const double dx = wallx[i][e], dy = wally[i][e];
+      const double chord0 = std::sqrt(dx * dx + dy * dy);
+      L0 += chord0;
+      rest[e] = chord0 / (1.0 + eps) * contraction;
+      R += rest[e];
+    }
+    rest_sum[i] = R;
+    fluid_area0[i] = dryness * CGMS::Shaped::fresh_fluid_area(area0[i], L0, par.void_frac, w);
+    for (int b = 0; b < nb_max; b++) {
+      const size_t ib = (size_t) i * nb_max + b;
+      bond_j[ib] = -1;
+      if (nb[i][b] <= 0) continue;
+      // check_topology has made sure that every fresh neighbour is here
+      const int j = domain->closest_image(i, atom->map(nb[i][b]));
+      bond_j[ib] = j;
+      bond_half_f[ib] = 0.5 * (boundary[i] && boundary[j] ? beta : 1.0);
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
    cell i's fluid and wall energy and its derivative dE/dF (shaped_tensor.energy):
-   walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e = c(s) |d0_e| /
-   (1 + eps); fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1
-   when A <= 0 (infinite energy, no gradient)
+   walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e (cached);
+   fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1 when
+   A <= 0 (infinite energy, no gradient). dl_e/dF = F d0_e d0_e^T / l_e, so
+   dE/dF = -H P dD/dF (1 - void psi) + F sum_e c_e d0_e d0_e^T / l_e with one scalar c_e
+   per wall (the chord sum's, the strip's and the wall's share): the first pass over the
+   walls finds l_e, the second, once P is known, sums the symmetric 2x2 matrices.
 ------------------------------------------------------------------------- */
 
 double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
@@ -418,31 +470,27 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   const double *d0x = atom->darray[iwallx][i], *d0y = atom->darray[iwally][i];
   const int nw = atom->ivector[inwall][i];
   const double area0 = atom->dvector[iarea][i];
-  const double s = dryness;
+  const double *rest = &wall_rest[(size_t) i * wall_max];
+  double *inv_len = wall_scratch.data(), *m1 = inv_len + wall_max, *de = m1 + wall_max;
   const double w = par.lamella * mat.pectin;
-  const double contraction = mat.perimeter_contraction(s);
-  double *u0 = scratch.data(), *u1 = u0 + wall_max, *len = u1 + wall_max;
-  double *rest = len + wall_max, *m1 = rest + wall_max, *de = m1 + wall_max;
+  const double EA = par.wall_EA, buckle = par.buckle, soft = par.soft;
+  const double smooth_eps = par.smooth * eps;
+  const int contour = par.contour;
 
-  double L0 = 0.0, rest_sum = 0.0, S = 0.0, sum_m = 0.0;
+  double S = 0.0, sum_m = 0.0, wall = 0.0;
   for (int e = 0; e < nw; e++) {
     const double dx = d0x[e], dy = d0y[e];
-    const double chord0 = std::sqrt(dx * dx + dy * dy);
-    L0 += chord0;
-    rest[e] = chord0 / (1.0 + eps) * contraction;
-    rest_sum += rest[e];
     const double c0 = F[0] * dx + F[1] * dy, c1 = F[2] * dx + F[3] * dy;
-    len[e] = std::sqrt(c0 * c0 + c1 * c1);
-    u0[e] = c0 / len[e];
-    u1[e] = c1 / len[e];
-    S += len[e];
-    sum_m += CGMS::Shaped::contour_length(len[e], rest[e], par.smooth * eps * rest[e], par.contour,
-                                          m1[e]);
+    const double len = std::sqrt(c0 * c0 + c1 * c1);
+    inv_len[e] = 1.0 / len;
+    S += len;
+    sum_m += CGMS::Shaped::contour_length(len, rest[e], smooth_eps * rest[e], contour, m1[e]);
+    wall += CGMS::Shaped::wall_energy(len, rest[e], EA, buckle, soft, de[e]);
   }
-  const double A_f = s * CGMS::Shaped::fresh_fluid_area(area0, L0, par.void_frac, w);
-  const double P_T = s * mat.P_f;
+  const double A_f = fluid_area0[i];
+  const double P_T = dryness * mat.P_f;
   double psi = 0.0, p1 = 0.0;
-  if (par.void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum, par.void_onset * eps, p1);
+  if (par.void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum[i], par.void_onset * eps, p1);
   const double det = F[0] * F[3] - F[1] * F[2];
   const double D = det * area0;
   const double A = D * (1.0 - par.void_frac * psi) - w * sum_m;
@@ -452,27 +500,25 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
     return 0.0;
   }
 
-  double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height);
-  for (int e = 0; e < nw; e++)
-    energy += CGMS::Shaped::wall_energy(len[e], rest[e], par.wall_EA, par.buckle, par.soft, de[e]);
+  const double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height) + wall;
   const double f1 = -mat.height * CGMS::Shaped::fluid_pressure(A, A_f, P_T, mat.K);
 
-  // dl_e/dF = u_e (x) d0_e; gA = gD (1 - void psi) - void D p1 gS - w sum m1 gl
-  const double gD[4] = {area0 * F[3], -area0 * F[2], -area0 * F[1], area0 * F[0]};
-  double gS[4] = {0.0, 0.0, 0.0, 0.0}, gm[4] = {0.0, 0.0, 0.0, 0.0}, gw[4] = {0.0, 0.0, 0.0, 0.0};
+  // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
+  const double c_S = -f1 * par.void_frac * D * p1, c_m = -f1 * w;
+  double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
   for (int e = 0; e < nw; e++) {
-    const double gl[4] = {u0[e] * d0x[e], u0[e] * d0y[e], u1[e] * d0x[e], u1[e] * d0y[e]};
-    for (int k = 0; k < 4; k++) {
-      gS[k] += gl[k];
-      gm[k] += m1[e] * gl[k];
-      gw[k] += de[e] * gl[k];
-    }
+    const double c = (c_S + c_m * m1[e] + de[e]) * inv_len[e];
+    const double dx = d0x[e], dy = d0y[e];
+    Mxx += c * dx * dx;
+    Mxy += c * dx * dy;
+    Myy += c * dy * dy;
   }
-  for (int k = 0; k < 4; k++) {
-    const double gA =
-        gD[k] * (1.0 - par.void_frac * psi) - par.void_frac * (D * p1) * gS[k] - w * gm[k];
-    dEdF[k] = f1 * gA + gw[k];
-  }
+  // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
+  const double fD = f1 * area0 * (1.0 - par.void_frac * psi);
+  dEdF[0] = fD * F[3] + F[0] * Mxx + F[1] * Mxy;
+  dEdF[1] = -fD * F[2] + F[0] * Mxy + F[1] * Myy;
+  dEdF[2] = -fD * F[1] + F[2] * Mxx + F[3] * Mxy;
+  dEdF[3] = fD * F[0] + F[2] * Mxy + F[3] * Myy;
   return energy;
 }
 
@@ -480,45 +526,46 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
    bead i's fresh bonds, each in full: k_g/2 |m|^2 with m = x_k - x_i - f (G(F_i) + G(F_k))
    d0_ik / 2, f = beta(s) on rim bonds (both beads on the boundary); the energy is halved
    (bead k's owner evaluates the same bond), the force k_g m goes to bead i alone and
-   k_g m dm/dF_i into dEdF
+   k_g m dm/dF_i into dEdF. dm_c/dF_i = -f/2 sum_n dG[2c + n] d0_n, so the bonds' sum
+   of f/2 m_c d0_n is gathered first and contracted with dG once.
 ------------------------------------------------------------------------- */
 
 double PairCGMSShaped::bond_terms(int i, double *dEdF)
 {
   double **x = atom->x;
   double **f = atom->f;
-  const int *nb = atom->iarray[inb][i];
   const double *d0x = atom->darray[ibondx][i], *d0y = atom->darray[ibondy][i];
-  const int *boundary = atom->ivector[iboundary];
+  const int *jb = &bond_j[(size_t) i * nb_max];
+  const double *half_f = &bond_half_f[(size_t) i * nb_max];
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
-  const double beta = CGMS::beta(par.beta_a, par.beta_b, dryness);
-  double G[4], dG[4][4];
-  CGMS::Shaped::bond_target(atom->darray[iF][i], par.iso, G, dG);
+  const double *G = target + 4 * i;
+  const double xi = x[i][0], yi = x[i][1];
 
-  double energy = 0.0;
+  // sums over the bonds: |m|^2, m, and f/2 (m0 dx, m0 dy, m1 dx, m1 dy); k_g once at the end
+  double msq = 0.0, mx = 0.0, my = 0.0;
+  double md[4] = {0.0, 0.0, 0.0, 0.0};
   for (int b = 0; b < nb_max; b++) {
-    if (nb[b] <= 0) continue;
-    const int j = domain->closest_image(i, atom->map(nb[b]));
+    const int j = jb[b];
+    if (j < 0) continue;
     const double dx = d0x[b], dy = d0y[b];
-    const double fb = boundary[i] && boundary[j] ? beta : 1.0;
+    const double hf = half_f[b];
     const double *Gj = target + 4 * j;
-    const double t0 = G[0] * dx + G[1] * dy + (Gj[0] * dx + Gj[1] * dy);
-    const double t1 = G[2] * dx + G[3] * dy + (Gj[2] * dx + Gj[3] * dy);
-    const double m0 = x[j][0] - x[i][0] - 0.5 * fb * t0;
-    const double m1 = x[j][1] - x[i][1] - 0.5 * fb * t1;
-    const double e = 0.25 * k_g * (m0 * m0 + m1 * m1);
-    const double fx = k_g * m0, fy = k_g * m1;
-    f[i][0] += fx;
-    f[i][1] += fy;
-    // dm_c/dF_k = -f/2 sum_j dG[2c + j][k] d0_j
-    for (int k = 0; k < 4; k++)
-      dEdF[k] -= 0.5 * fb * k_g *
-          (m0 * (dG[0][k] * dx + dG[1][k] * dy) + m1 * (dG[2][k] * dx + dG[3][k] * dy));
-    energy += e;
-    if (eflag_atom) eatom[i] += e;
+    const double t0 = (G[0] + Gj[0]) * dx + (G[1] + Gj[1]) * dy;
+    const double t1 = (G[2] + Gj[2]) * dx + (G[3] + Gj[3]) * dy;
+    const double m0 = x[j][0] - xi - hf * t0;
+    const double m1 = x[j][1] - yi - hf * t1;
+    msq += m0 * m0 + m1 * m1;
+    mx += m0;
+    my += m1;
+    const double a0 = hf * m0, a1 = hf * m1;
+    md[0] += a0 * dx;
+    md[1] += a0 * dy;
+    md[2] += a1 * dx;
+    md[3] += a1 * dy;
     if (vflag_either) {
       // half the bond's virial r_ik (x) f_i, the other half from bead k's owner
-      const double delx = x[i][0] - x[j][0], dely = x[i][1] - x[j][1];
+      const double fx = k_g * m0, fy = k_g * m1;
+      const double delx = xi - x[j][0], dely = yi - x[j][1];
       const double v[6] = {0.5 * delx * fx, 0.5 * dely * fy, 0.0, 0.5 * delx * fy, 0.0, 0.0};
       for (int n = 0; n < 6; n++) {
         if (vflag_global) virial[n] += v[n];
@@ -526,17 +573,41 @@ double PairCGMSShaped::bond_terms(int i, double *dEdF)
       }
     }
   }
+  const double energy = 0.25 * k_g * msq;
+  if (eflag_atom) eatom[i] += energy;
+  f[i][0] += k_g * mx;
+  f[i][1] += k_g * my;
+  double dm[4];
+  CGMS::Shaped::bond_target_pullback(atom->darray[iF][i], par.iso, md, dm);
+  for (int k = 0; k < 4; k++) dEdF[k] -= k_g * dm[k];
   return energy;
 }
 
-/* ---------------------------------------------------------------------- */
+/* ----------------------------------------------------------------------
+   the pairs of the neighbour list that were not fresh neighbours (the LJ repulsion's),
+   gathered once per neighbour list: (i, j) as pair_j[pair_first[ii] ..]
+------------------------------------------------------------------------- */
 
-bool PairCGMSShaped::fresh_neighbour(int i, tagint t) const
+void PairCGMSShaped::exclude_fresh_pairs()
 {
-  const int *nb = atom->iarray[inb][i];
-  for (int b = 0; b < nb_max; b++)
-    if (nb[b] == t) return true;
-  return false;
+  const tagint *tag = atom->tag;
+  int **nbs = atom->iarray[inb];
+  pair_first.resize(list->inum + 1);
+  pair_j.clear();
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *nb = nbs[i];
+    const int *jlist = list->firstneigh[i];
+    pair_first[ii] = (int) pair_j.size();
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      bool fresh = false;
+      for (int b = 0; b < nb_max; b++)
+        if (nb[b] == tag[j]) fresh = true;
+      if (!fresh) pair_j.push_back(j);
+    }
+  }
+  pair_first[list->inum] = (int) pair_j.size();
 }
 
 /* ----------------------------------------------------------------------
@@ -548,20 +619,20 @@ void PairCGMSShaped::lj_terms()
 {
   double **x = atom->x;
   double **f = atom->f;
-  const tagint *tag = atom->tag;
   const int nlocal = atom->nlocal;
   const int newton_pair = force->newton_pair;
   const double rad = mat.lj_radius(dryness);
   const double radsq = rad * rad;
   const double f0 = mat.f0_r;
+  const int *jlist = pair_j.data();
   for (int ii = 0; ii < list->inum; ii++) {
     const int i = list->ilist[ii];
-    const int *jlist = list->firstneigh[i];
-    for (int jj = 0; jj < list->numneigh[i]; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double delx = x[i][0] - x[j][0], dely = x[i][1] - x[j][1];
+    const double xi = x[i][0], yi = x[i][1];
+    for (int jj = pair_first[ii]; jj < pair_first[ii + 1]; jj++) {
+      const int j = jlist[jj];
+      const double delx = xi - x[j][0], dely = yi - x[j][1];
       const double rsq = delx * delx + dely * dely;
-      if (rsq >= radsq || fresh_neighbour(i, tag[j])) continue;
+      if (rsq >= radsq) continue;
       const double r2inv = 1.0 / rsq;
       const double q2 = radsq * r2inv, q4 = q2 * q2, q8 = q4 * q4;
       const double fpair = f0 * (q8 - q4) * r2inv;
@@ -583,7 +654,14 @@ void PairCGMSShaped::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
   comm->forward_comm(this);
-  if (neighbor->ago == 0) check_topology();
+  // the local order changes only with a new neighbour list; init_style (new settings,
+  // data changed by 'set', 'run 0 pre no') also asks for a new cache
+  if (neighbor->ago == 0 || !cache_current) {
+    check_topology();
+    cache_fresh_data();
+    exclude_fresh_pairs();
+    cache_current = 1;
+  }
 
   // G(F) of every local and ghost bead, for the bonds
   const int nall = atom->nlocal + atom->nghost;
@@ -691,5 +769,10 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 
 double PairCGMSShaped::memory_usage()
 {
-  return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double);
+  const double caches =
+      (double) (wall_rest.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
+                fluid_area0.capacity() + bond_half_f.capacity()) *
+          sizeof(double) +
+      (double) (bond_j.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
+  return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double) + caches;
 }

@@ -65,16 +65,24 @@ class PairCGMSShaped : public Pair {
   int nmax_target;
   double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
   int nmax_min;
-  std::vector<double> scratch;    // per-wall values of one cell
+  // fixed per-bead data, in the local order of the current neighbour list (cache_fresh_data,
+  // at every new list): per wall its rest length; per bead its rest-length sum and fresh
+  // fluid area; per fresh bond the closest image of the neighbour (-1: none) and f / 2
+  std::vector<double> wall_rest, rest_sum, fluid_area0, bond_half_f;
+  std::vector<int> bond_j;
+  std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
+  std::vector<double> wall_scratch;       // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
+  int cache_current;                      // 0 after init_style: rebuild before the next evaluation
 
   void add_force_property();
   void find_properties();
   void fresh_strain_and_bond_length();
   void check_topology();
+  void cache_fresh_data();
   double cell_term(int i, double *dEdF, int &bad);
   double bond_terms(int i, double *dEdF);
   void lj_terms();
-  bool fresh_neighbour(int i, tagint tag) const;
+  void exclude_fresh_pairs();
 };
 
 }    // namespace LAMMPS_NS

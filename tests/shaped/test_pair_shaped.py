@@ -94,3 +94,34 @@ def test_the_local_builder_gives_the_prototypes_data():
         whole, local = shaped_data.per_bead(geo), shaped_data.per_bead_local(xy, sl.L)
         for key in whole:
             assert np.array_equal(whole[key], local[key]), key
+
+
+@pytest.mark.lammps
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+def test_the_per_list_caches_follow_the_beads(tmp_path, nprocs):
+    """The pair keeps per-bead data in the local order of the neighbour list (rest lengths,
+    the bonds' local neighbours, the LJ pairs without fresh neighbours): a minimisation
+    that sorts the beads and builds a new list at every step (and on 2 ranks moves beads
+    between ranks) ends in a state whose forces still match the oracle's."""
+    xy, geo = sl.calibration_tissue(sl.BEST)
+    z, lev = sl.perturbed_state(xy, geo, 0.6)
+    shaped_data.write_data(tmp_path / "tissue.data", geo, z, overwrite=True)
+    script = (sl.header(geo, nprocs=nprocs)
+              .replace("sort 0 0", f"sort 1 {3 * sl.L}")
+              .replace("check yes", "check no")
+              + sl.physics(0.6, sl.BEST, sl.APPLE) + sl.output()
+              + "min_style cg\nmin_modify dmax 1e-6 line forcezero\nminimize 0 0 12 100\n")
+    from cgmstest import run_lmp
+    proc = run_lmp(tmp_path, script, nprocs=nprocs)
+    z_lmp, fF, fx = sl.read_state(tmp_path / "state.dump")
+    assert not np.array_equal(z_lmp, z)    # the beads and F moved
+    assert "Neighbor list builds = 0" not in proc.stdout
+    E, g = st.energy(z_lmp, lev)
+    n = lev["n"]
+    b = shaped_data.per_bead(geo)
+    terms = b["nb"].shape[1] + b["wallx"].shape[1] + 2
+    sx, sF, _ = term_scales(z_lmp, lev)
+    err_x = np.abs(fx + g[:2 * n].reshape(n, 2)).max()
+    err_F = np.abs(fF + g[2 * n:].reshape(n, 4)).max()
+    assert err_x <= C * sl.EPS * terms * sx, (err_x, sx)
+    assert err_F <= C * sl.EPS * terms * sF, (err_F, sF)
