@@ -42,6 +42,10 @@ class PairCGMSShaped : public Pair {
   double memory_usage() override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
 
   void min_xf_pointers(int, double **, double **) override;
   void min_xf_get(int) override;
@@ -66,8 +70,11 @@ class PairCGMSShaped : public Pair {
   double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
   int nmax_min;
   std::vector<double> scratch;    // per-wall values of one cell
+  std::string material_file;      // pair_coeff's arguments, for the restart record
 
+  void allocate();
   void add_force_property();
+  void check_fresh_neighbours();
   void find_properties();
   void fresh_strain_and_bond_length();
   void check_topology();
