@@ -27,6 +27,10 @@ using namespace LAMMPS_NS;
 using CGMS::Shaped::Params;
 
 // the per-atom properties the data file gives every bead (python/cgms/shaped_data.py)
+// the cutoff need not reach beyond a few fresh bonds: a larger reach only fills the ghost
+// shell (and at 1e300 overflows LAMMPS's neighbour bins)
+static constexpr double REACH_MAX = 10.0;
+
 static const char *const PROPERTY_HINT =
     "write the tissue with cgms.shaped_data.write_data() and define its properties before "
     "read_data with the fix command cgms.shaped_data.fix_command() prints (see "
@@ -37,7 +41,8 @@ static const char *const PROPERTY_HINT =
 PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
     Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
     iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
-    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), target(nullptr), nmax_target(0),
+    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), lists_asymmetric(false), target(nullptr),
+    nmax_target(0),
     min_x(nullptr), min_f(nullptr), nmax_min(0)
 {
   single_enable = 0;
@@ -79,6 +84,8 @@ void PairCGMSShaped::settings(int narg, char **arg)
     if (iarg + 1 >= narg) error->all(FLERR, "Pair style cgms/shaped keyword {} needs a value", key);
     const char *value = arg[iarg + 1];
     auto number = [&](double lo, bool lo_open, double hi) {
+      if (!utils::is_double(value))
+        error->all(FLERR, "Pair style cgms/shaped keyword {} needs a number, not '{}'", key, value);
       const double v = utils::numeric(FLERR, value, false, lmp);
       if (!(lo_open ? v > lo : v >= lo) || !(v <= hi))
         error->all(FLERR, "Pair style cgms/shaped {} {} is out of range: it must be {} {}{}", key,
@@ -98,7 +105,7 @@ void PairCGMSShaped::settings(int narg, char **arg)
     else if (key == "beta_a")
       p.beta_a = number(0.0, true, inf);
     else if (key == "beta_b")
-      p.beta_b = utils::numeric(FLERR, value, false, lmp);
+      p.beta_b = number(-inf, true, inf);
     else if (key == "lamella")
       p.lamella = number(0.0, false, inf);
     else if (key == "kg_ratio")
@@ -112,7 +119,7 @@ void PairCGMSShaped::settings(int narg, char **arg)
     else if (key == "iso")
       p.iso = number(0.0, false, 1.0);
     else if (key == "reach")
-      r = number(0.0, true, inf);
+      r = number(0.0, true, REACH_MAX);
     else if (key == "strip") {
       if (strcmp(value, "contour") == 0)
         p.contour = 1;
@@ -258,22 +265,22 @@ void PairCGMSShaped::fresh_strain_and_bond_length()
   double **bondx = atom->darray[ibondx], **bondy = atom->darray[ibondy];
   int **nb = atom->iarray[inb];
 
-  tagint first = MAXTAGINT, first_all;
+  tagint first = MAXTAGINT, first_all, bad = MAXTAGINT, bad_all;
   double longest = 0.0;
-  int bad = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!boundary[i] && tag[i] < first) first = tag[i];
-    if (nwall[i] < 3 || nwall[i] > wall_max || !(atom->dvector[iarea][i] > 0.0)) bad = 1;
+    if (nwall[i] < 3 || nwall[i] > wall_max || !(atom->dvector[iarea][i] > 0.0))
+      bad = std::min(bad, tag[i]);
     for (int b = 0; b < nb_max; b++)
       if (nb[i][b] > 0) longest = std::max(longest, std::hypot(bondx[i][b], bondy[i][b]));
   }
-  int bad_all;
-  MPI_Allreduce(&bad, &bad_all, 1, MPI_INT, MPI_MAX, world);
-  if (bad_all)
+  MPI_Allreduce(&bad, &bad_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (bad_all != MAXTAGINT)
     error->all(FLERR,
-               "Pair style cgms/shaped: a bead has fewer than 3 walls, more walls than "
-               "d2_shaped_wall holds, or a fresh polygon area that is not positive; {}",
-               PROPERTY_HINT);
+               "Pair style cgms/shaped: bead {} has fewer than 3 walls, more walls than "
+               "d2_shaped_wallx holds ({}), or a fresh polygon area that is not positive (a bead "
+               "added by create_atoms has no fresh data: add beads before writing the tissue); {}",
+               bad_all, wall_max, PROPERTY_HINT);
   MPI_Allreduce(&first, &first_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
   MPI_Allreduce(&longest, &bond_max, 1, MPI_DOUBLE, MPI_MAX, world);
   if (first_all == MAXTAGINT)
@@ -357,7 +364,15 @@ void PairCGMSShaped::check_fresh_neighbours()
   MPI_Allreduce(sum, sum_all, 2, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&scale, &scale_all, 1, MPI_DOUBLE, MPI_SUM, world);
   // the bond vectors cancel in pairs to rounding: 64 ulp of their magnitude is far above it
-  if (pairing_all != 0 || std::hypot(sum_all[0], sum_all[1]) > 64.0 * DBL_EPSILON * scale_all)
+  // reported by check_topology after its search for deleted neighbours (a deleted bead
+  // leaves its neighbours' lists unanswered too, and that cause is the one to name)
+  lists_asymmetric =
+      pairing_all != 0 || std::hypot(sum_all[0], sum_all[1]) > 64.0 * DBL_EPSILON * scale_all;
+}
+
+void PairCGMSShaped::refuse_asymmetric_lists()
+{
+  if (lists_asymmetric)
     error->all(FLERR,
                "Pair style cgms/shaped: the fresh neighbour lists are not symmetric (a bead "
                "lists a neighbour that does not list it back, or their bond vectors are not "
@@ -466,6 +481,7 @@ void PairCGMSShaped::check_topology()
                "the pair's reach (now {}) or 'comm_modify cutoff'",
                who_all, k_all, comm->get_comm_cutoff(), reach);
   }
+  refuse_asymmetric_lists();
   double longest_all;
   MPI_Allreduce(&longest, &longest_all, 1, MPI_DOUBLE, MPI_MAX, world);
   if (longest_all > cut_global) {
@@ -685,9 +701,60 @@ void PairCGMSShaped::compute(int eflag, int vflag)
     for (int k = 0; k < 4; k++) fF[i][k] = -dEdF[k];
   }
   lj_terms();
+  if (bad && update->setupflag) refuse_inverted();
+  if (!bad) refuse_nonfinite(energy);
   // a cell turned inside out (fluid area or det F not positive) has infinite energy: a
   // line search steps back from it
   if (eflag_global) eng_vdwl += bad ? HUGE_VAL : energy;
+}
+
+/* ----------------------------------------------------------------------
+   a finite state with a non-finite energy or force: a keyword or material value so far
+   out of range that the energy overflows, or a force whose square overflows the
+   minimiser's force norm (a sum of 6 squares per bead); stop before it moves on NaN
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::refuse_nonfinite(double energy)
+{
+  double **f = atom->f;
+  double **fF = atom->darray[iforce];
+  const double limit = std::sqrt(DBL_MAX / (6.0 * std::max(atom->natoms, (bigint) 1)));
+  bool finite = std::isfinite(energy);
+  tagint who = 0;
+  for (int i = 0; i < atom->nlocal && finite; i++) {
+    finite = std::fabs(f[i][0]) < limit && std::fabs(f[i][1]) < limit;
+    for (int k = 0; k < 4; k++) finite = finite && std::fabs(fF[i][k] / dof_scale) < limit;
+    if (!finite) who = atom->tag[i];
+  }
+  if (!finite)
+    error->one(FLERR,
+               "Pair style cgms/shaped: the energy or the force {} is not finite (or so large "
+               "that the minimiser's force norm overflows) in a state of finite F: a keyword (wall_EA, soft, beta_a, beta_b, kg_ratio, "
+               "smooth) or material value is far outside its physical range; give values of "
+               "the order of the defaults (doc/pair_cgms_shaped.rst)",
+               who ? fmt::format("on bead {}", who) : std::string("sum"));
+}
+
+/* ----------------------------------------------------------------------
+   the state a run or minimize starts from has a cell turned inside out (infinite energy):
+   a line search steps back from such a trial state, but it cannot start from one
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::refuse_inverted()
+{
+  tagint who = 0;
+  for (int i = 0; i < atom->nlocal && !who; i++) {
+    double dEdF[4];
+    int bad = 0;
+    cell_term(i, dEdF, bad);
+    if (bad) who = atom->tag[i];
+  }
+  error->one(FLERR,
+             "Pair style cgms/shaped: the starting state has cell {} turned inside out (its fluid "
+             "area or det F is not positive), so its energy is infinite: start from the fresh "
+             "tissue's F (cgms.shaped_tensor.fresh_state) or a state a minimisation reached; or "
+             "a keyword (lamella, smooth, void) is far outside its physical range",
+             who);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -64,6 +64,7 @@ class PairCGMSShaped : public Pair {
   // indices of the per-atom custom properties (Atom::find_custom)
   int iF, inb, ibondx, ibondy, iwallx, iwally, iid, inwall, iarea, iboundary, iforce;
   int nb_max, wall_max;    // columns of the neighbour and wall arrays
+  bool lists_asymmetric;   // init found a bond listed by one bead only
 
   double *target;    // G(F) of every local and ghost bead (4 per bead)
   int nmax_target;
@@ -75,6 +76,9 @@ class PairCGMSShaped : public Pair {
   void allocate();
   void add_force_property();
   void check_fresh_neighbours();
+  void refuse_asymmetric_lists();
+  void refuse_nonfinite(double energy);
+  void refuse_inverted();
   void find_properties();
   void fresh_strain_and_bond_length();
   void check_topology();
