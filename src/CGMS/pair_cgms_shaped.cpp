@@ -323,8 +323,35 @@ static uint64_t bond_hash(uint64_t a, uint64_t b)
   return z ^ (z >> 31);
 }
 
+void PairCGMSShaped::refuse_renamed_ids()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  const int *fresh_id = atom->ivector[iid];
+  tagint created = MAXTAGINT, created_all, renamed = MAXTAGINT, renamed_all;
+  for (int i = 0; i < nlocal; i++) {
+    if (fresh_id[i] == 0) created = std::min(created, tag[i]);
+    if (fresh_id[i] != tag[i] && tag[i] < renamed) renamed = tag[i];
+  }
+  MPI_Allreduce(&created, &created_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (created_all != MAXTAGINT)
+    error->all(FLERR,
+               "Pair style cgms/shaped: bead {} has no fresh data (no walls, no neighbours: it "
+               "was added after read_data, e.g. by create_atoms); add beads to the tissue before "
+               "writing it with cgms.shaped_data.write_data()",
+               created_all);
+  MPI_Allreduce(&renamed, &renamed_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (renamed_all != MAXTAGINT)
+    error->all(FLERR,
+               "Pair style cgms/shaped: the atom IDs changed since the tissue was written "
+               "(bead {} was written with another ID), so the fresh neighbours' IDs name other "
+               "beads; use 'delete_atoms ... compress no' and no reset_atoms id",
+               renamed_all);
+}
+
 void PairCGMSShaped::check_fresh_neighbours()
 {
+  refuse_renamed_ids();
   const int nlocal = atom->nlocal;
   const tagint *tag = atom->tag;
   int **nb = atom->iarray[inb];
@@ -432,17 +459,7 @@ void PairCGMSShaped::check_topology()
   const tagint *tag = atom->tag;
   double **x = atom->x;
   int **nb = atom->iarray[inb];
-  const int *fresh_id = atom->ivector[iid];
-  tagint renamed = MAXTAGINT, renamed_all;
-  for (int i = 0; i < nlocal; i++)
-    if (fresh_id[i] != tag[i] && tag[i] < renamed) renamed = tag[i];
-  MPI_Allreduce(&renamed, &renamed_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
-  if (renamed_all != MAXTAGINT)
-    error->all(FLERR,
-               "Pair style cgms/shaped: the atom IDs changed since the tissue was written "
-               "(bead {} was written with another ID), so the fresh neighbours' IDs name other "
-               "beads; use 'delete_atoms ... compress no' and no reset_atoms id",
-               renamed_all);
+  refuse_renamed_ids();
 
   tagint missing[2] = {0, 0}, far_pair[2] = {0, 0};
   double longest = 0.0;

@@ -77,6 +77,7 @@ class PairCGMSShaped : public Pair {
   void add_force_property();
   void check_fresh_neighbours();
   void refuse_asymmetric_lists();
+  void refuse_renamed_ids();
   void refuse_nonfinite(double energy);
   void refuse_inverted();
   void find_properties();
