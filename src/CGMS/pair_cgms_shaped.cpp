@@ -18,13 +18,19 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include <cfloat>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 using namespace LAMMPS_NS;
 using CGMS::Shaped::Params;
 
 // the per-atom properties the data file gives every bead (python/cgms/shaped_data.py)
+// the cutoff need not reach beyond a few fresh bonds: a larger reach only fills the ghost
+// shell (and at 1e300 overflows LAMMPS's neighbour bins)
+static constexpr double REACH_MAX = 10.0;
+
 static const char *const PROPERTY_HINT =
     "write the tissue with cgms.shaped_data.write_data() and define its properties before "
     "read_data with the fix command cgms.shaped_data.fix_command() prints (see "
@@ -35,11 +41,11 @@ static const char *const PROPERTY_HINT =
 PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
     Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
     iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
-    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), target(nullptr), nmax_target(0),
-    min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
+    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), lists_asymmetric(false), target(nullptr),
+    nmax_target(0), min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
 {
   single_enable = 0;
-  restartinfo = 0;    // pair_style and pair_coeff are given again after read_restart
+  restartinfo = 1;
   one_coeff = 1;
   manybody_flag = 1;
   no_virial_fdotr_compute = 1;    // bond forces act on local beads only
@@ -77,6 +83,8 @@ void PairCGMSShaped::settings(int narg, char **arg)
     if (iarg + 1 >= narg) error->all(FLERR, "Pair style cgms/shaped keyword {} needs a value", key);
     const char *value = arg[iarg + 1];
     auto number = [&](double lo, bool lo_open, double hi) {
+      if (!utils::is_double(value))
+        error->all(FLERR, "Pair style cgms/shaped keyword {} needs a number, not '{}'", key, value);
       const double v = utils::numeric(FLERR, value, false, lmp);
       if (!(lo_open ? v > lo : v >= lo) || !(v <= hi))
         error->all(FLERR, "Pair style cgms/shaped {} {} is out of range: it must be {} {}{}", key,
@@ -96,7 +104,7 @@ void PairCGMSShaped::settings(int narg, char **arg)
     else if (key == "beta_a")
       p.beta_a = number(0.0, true, inf);
     else if (key == "beta_b")
-      p.beta_b = utils::numeric(FLERR, value, false, lmp);
+      p.beta_b = number(-inf, true, inf);
     else if (key == "lamella")
       p.lamella = number(0.0, false, inf);
     else if (key == "kg_ratio")
@@ -110,7 +118,7 @@ void PairCGMSShaped::settings(int narg, char **arg)
     else if (key == "iso")
       p.iso = number(0.0, false, 1.0);
     else if (key == "reach")
-      r = number(0.0, true, inf);
+      r = number(0.0, true, REACH_MAX);
     else if (key == "strip") {
       if (strcmp(value, "contour") == 0)
         p.contour = 1;
@@ -138,19 +146,26 @@ void PairCGMSShaped::coeff(int narg, char **arg)
 {
   if (narg < 3 || (narg - 3) % 2 != 0)
     error->all(FLERR, "Pair coeff for cgms/shaped: expected '* * material-file [name value ...]'");
-  if (!allocated) {
-    allocated = 1;
-    const int n = atom->ntypes + 1;
-    memory->create(setflag, n, n, "pair:setflag");
-    memory->create(cutsq, n, n, "pair:cutsq");
-  }
+  allocate();
   mat = CGMS::Material();
   mat.read_file(lmp, arg[2]);
   for (int iarg = 3; iarg < narg; iarg += 2) mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
   mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
+  material_file = arg[2];
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = 1; j <= atom->ntypes; j++) setflag[i][j] = 1;
   add_force_property();
+}
+
+void PairCGMSShaped::allocate()
+{
+  if (allocated) return;
+  allocated = 1;
+  const int n = atom->ntypes + 1;
+  memory->create(setflag, n, n, "pair:setflag");
+  memory->create(cutsq, n, n, "pair:cutsq");
+  for (int i = 1; i < n; i++)
+    for (int j = 1; j < n; j++) setflag[i][j] = 0;
 }
 
 /* ----------------------------------------------------------------------
@@ -248,22 +263,22 @@ void PairCGMSShaped::fresh_strain_and_bond_length()
   double **bondx = atom->darray[ibondx], **bondy = atom->darray[ibondy];
   int **nb = atom->iarray[inb];
 
-  tagint first = MAXTAGINT, first_all;
+  tagint first = MAXTAGINT, first_all, bad = MAXTAGINT, bad_all;
   double longest = 0.0;
-  int bad = 0;
   for (int i = 0; i < nlocal; i++) {
     if (!boundary[i] && tag[i] < first) first = tag[i];
-    if (nwall[i] < 3 || nwall[i] > wall_max || !(atom->dvector[iarea][i] > 0.0)) bad = 1;
+    if (nwall[i] < 3 || nwall[i] > wall_max || !(atom->dvector[iarea][i] > 0.0))
+      bad = std::min(bad, tag[i]);
     for (int b = 0; b < nb_max; b++)
       if (nb[i][b] > 0) longest = std::max(longest, std::hypot(bondx[i][b], bondy[i][b]));
   }
-  int bad_all;
-  MPI_Allreduce(&bad, &bad_all, 1, MPI_INT, MPI_MAX, world);
-  if (bad_all)
+  MPI_Allreduce(&bad, &bad_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (bad_all != MAXTAGINT)
     error->all(FLERR,
-               "Pair style cgms/shaped: a bead has fewer than 3 walls, more walls than "
-               "d2_shaped_wall holds, or a fresh polygon area that is not positive; {}",
-               PROPERTY_HINT);
+               "Pair style cgms/shaped: bead {} has fewer than 3 walls, more walls than "
+               "d2_shaped_wallx holds ({}), or a fresh polygon area that is not positive (a bead "
+               "added by create_atoms has no fresh data: add beads before writing the tissue); {}",
+               bad_all, wall_max, PROPERTY_HINT);
   MPI_Allreduce(&first, &first_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
   MPI_Allreduce(&longest, &bond_max, 1, MPI_DOUBLE, MPI_MAX, world);
   if (first_all == MAXTAGINT)
@@ -290,6 +305,106 @@ void PairCGMSShaped::fresh_strain_and_bond_length()
                eps);
 }
 
+/* ----------------------------------------------------------------------
+   the fresh neighbour lists are those of a tissue: every ID a bead that exists, not the
+   bead itself nor twice in a row, each bond listed by both its beads (each evaluates it
+   halved; a bond listed once would count half) with opposite vectors. The pairing is
+   checked with a signed sum of a hash of each bond (zero when every i->k has its k->i)
+   and the vector sum of the bonds (zero when every pair's vectors cancel)
+------------------------------------------------------------------------- */
+
+static uint64_t bond_hash(uint64_t a, uint64_t b)
+{
+  uint64_t z = a * 0x9e3779b97f4a7c15ULL + b + 0x632be59bd9b4e019ULL;    // splitmix64
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+void PairCGMSShaped::refuse_renamed_ids()
+{
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  const int *fresh_id = atom->ivector[iid];
+  tagint created = MAXTAGINT, created_all, renamed = MAXTAGINT, renamed_all;
+  for (int i = 0; i < nlocal; i++) {
+    if (fresh_id[i] == 0) created = std::min(created, tag[i]);
+    if (fresh_id[i] != tag[i] && tag[i] < renamed) renamed = tag[i];
+  }
+  MPI_Allreduce(&created, &created_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (created_all != MAXTAGINT)
+    error->all(FLERR,
+               "Pair style cgms/shaped: bead {} has no fresh data (no walls, no neighbours: it "
+               "was added after read_data, e.g. by create_atoms); add beads to the tissue before "
+               "writing it with cgms.shaped_data.write_data()",
+               created_all);
+  MPI_Allreduce(&renamed, &renamed_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (renamed_all != MAXTAGINT)
+    error->all(FLERR,
+               "Pair style cgms/shaped: the atom IDs changed since the tissue was written "
+               "(bead {} was written with another ID), so the fresh neighbours' IDs name other "
+               "beads; use 'delete_atoms ... compress no' and no reset_atoms id",
+               renamed_all);
+}
+
+void PairCGMSShaped::check_fresh_neighbours()
+{
+  refuse_renamed_ids();
+  const int nlocal = atom->nlocal;
+  const tagint *tag = atom->tag;
+  int **nb = atom->iarray[inb];
+  double **bondx = atom->darray[ibondx], **bondy = atom->darray[ibondy];
+  tagint bad[2] = {0, 0};    // the lowest bead with a bad row and the ID it names
+  uint64_t pairing = 0;
+  double sum[2] = {0.0, 0.0}, scale = 0.0;
+  for (int i = 0; i < nlocal; i++)
+    for (int b = 0; b < nb_max; b++) {
+      const tagint t = nb[i][b];
+      if (t == 0) continue;
+      bool wrong = t < 0 || t == tag[i] || t > atom->map_tag_max ||
+          !(std::hypot(bondx[i][b], bondy[i][b]) > 0.0);
+      for (int c = 0; c < b; c++) wrong = wrong || nb[i][c] == t;
+      if (wrong && (!bad[0] || tag[i] < bad[0])) bad[0] = tag[i], bad[1] = t;
+      const uint64_t lo = std::min(tag[i], t), hi = std::max(tag[i], t);
+      pairing += (tag[i] < t ? 1 : -1) * bond_hash(lo, hi);
+      sum[0] += bondx[i][b];
+      sum[1] += bondy[i][b];
+      scale += std::fabs(bondx[i][b]) + std::fabs(bondy[i][b]);
+    }
+  tagint first = bad[0] ? bad[0] : MAXTAGINT, first_all;
+  MPI_Allreduce(&first, &first_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
+  if (first_all != MAXTAGINT) {
+    tagint named = bad[0] == first_all ? bad[1] : 0, named_all;
+    MPI_Allreduce(&named, &named_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+    error->all(FLERR,
+               "Pair style cgms/shaped: bead {} lists fresh neighbour {}, which is not a bead of "
+               "this tissue (an ID above the largest, the bead itself, listed twice, or a bond of zero "
+               "length): the data file's shaped properties are damaged or were edited; write "
+               "the tissue again with cgms.shaped_data.write_data()",
+               first_all, named_all);
+  }
+  uint64_t pairing_all;
+  double sum_all[2], scale_all;
+  MPI_Allreduce(&pairing, &pairing_all, 1, MPI_UINT64_T, MPI_SUM, world);
+  MPI_Allreduce(sum, sum_all, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&scale, &scale_all, 1, MPI_DOUBLE, MPI_SUM, world);
+  // the bond vectors cancel in pairs to rounding: 64 ulp of their magnitude is far above it
+  // reported by check_topology after its search for deleted neighbours (a deleted bead
+  // leaves its neighbours' lists unanswered too, and that cause is the one to name)
+  lists_asymmetric =
+      pairing_all != 0 || std::hypot(sum_all[0], sum_all[1]) > 64.0 * DBL_EPSILON * scale_all;
+}
+
+void PairCGMSShaped::refuse_asymmetric_lists()
+{
+  if (lists_asymmetric)
+    error->all(FLERR,
+               "Pair style cgms/shaped: the fresh neighbour lists are not symmetric (a bead "
+               "lists a neighbour that does not list it back, or their bond vectors are not "
+               "opposite): the data file's shaped properties are damaged or were edited; write "
+               "the tissue again with cgms.shaped_data.write_data()");
+}
+
 /* ---------------------------------------------------------------------- */
 
 void PairCGMSShaped::init_style()
@@ -312,6 +427,7 @@ void PairCGMSShaped::init_style()
                "(per-atom degrees of freedom); use min_style cg or sd",
                update->minimize_style);
   find_properties();
+  check_fresh_neighbours();
   fresh_strain_and_bond_length();
   cache_current = 0;
   // a power of two near x_ref: the minimiser's dof_scale F and F convert exactly
@@ -342,17 +458,7 @@ void PairCGMSShaped::check_topology()
   const tagint *tag = atom->tag;
   double **x = atom->x;
   int **nb = atom->iarray[inb];
-  const int *fresh_id = atom->ivector[iid];
-  tagint renamed = MAXTAGINT, renamed_all;
-  for (int i = 0; i < nlocal; i++)
-    if (fresh_id[i] != tag[i] && tag[i] < renamed) renamed = tag[i];
-  MPI_Allreduce(&renamed, &renamed_all, 1, MPI_LMP_TAGINT, MPI_MIN, world);
-  if (renamed_all != MAXTAGINT)
-    error->all(FLERR,
-               "Pair style cgms/shaped: the atom IDs changed since the tissue was written "
-               "(bead {} was written with another ID), so the fresh neighbours' IDs name other "
-               "beads; use 'delete_atoms ... compress no' and no reset_atoms id",
-               renamed_all);
+  refuse_renamed_ids();
 
   tagint missing[2] = {0, 0}, far_pair[2] = {0, 0};
   double longest = 0.0;
@@ -360,7 +466,7 @@ void PairCGMSShaped::check_topology()
     for (int b = 0; b < nb_max; b++) {
       const tagint t = nb[i][b];
       if (t <= 0) continue;
-      int j = atom->map(t);
+      int j = t > atom->map_tag_max ? -1 : atom->map(t);
       if (j < 0) {
         if (!missing[0]) missing[0] = tag[i], missing[1] = t;
         continue;
@@ -376,7 +482,7 @@ void PairCGMSShaped::check_topology()
   if (k_all != MAXTAGINT) {
     tagint who = missing[1] == k_all ? missing[0] : 0, who_all;
     MPI_Allreduce(&who, &who_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
-    const int j = atom->map(k_all);
+    const int j = k_all > atom->map_tag_max ? -1 : atom->map(k_all);
     int owned = j >= 0 && j < nlocal, exists;
     MPI_Allreduce(&owned, &exists, 1, MPI_INT, MPI_MAX, world);
     if (!exists)
@@ -391,6 +497,7 @@ void PairCGMSShaped::check_topology()
                "the pair's reach (now {}) or 'comm_modify cutoff'",
                who_all, k_all, comm->get_comm_cutoff(), reach);
   }
+  refuse_asymmetric_lists();
   double longest_all;
   MPI_Allreduce(&longest, &longest_all, 1, MPI_DOUBLE, MPI_MAX, world);
   if (longest_all > cut_global) {
@@ -688,9 +795,60 @@ void PairCGMSShaped::compute(int eflag, int vflag)
     for (int k = 0; k < 4; k++) fF[i][k] = -dEdF[k];
   }
   lj_terms();
+  if (bad && update->setupflag) refuse_inverted();
+  if (!bad) refuse_nonfinite(energy);
   // a cell turned inside out (fluid area or det F not positive) has infinite energy: a
   // line search steps back from it
   if (eflag_global) eng_vdwl += bad ? HUGE_VAL : energy;
+}
+
+/* ----------------------------------------------------------------------
+   a finite state with a non-finite energy or force: a keyword or material value so far
+   out of range that the energy overflows, or a force whose square overflows the
+   minimiser's force norm (a sum of 6 squares per bead); stop before it moves on NaN
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::refuse_nonfinite(double energy)
+{
+  double **f = atom->f;
+  double **fF = atom->darray[iforce];
+  const double limit = std::sqrt(DBL_MAX / (6.0 * std::max(atom->natoms, (bigint) 1)));
+  bool finite = std::isfinite(energy);
+  tagint who = 0;
+  for (int i = 0; i < atom->nlocal && finite; i++) {
+    finite = std::fabs(f[i][0]) < limit && std::fabs(f[i][1]) < limit;
+    for (int k = 0; k < 4; k++) finite = finite && std::fabs(fF[i][k] / dof_scale) < limit;
+    if (!finite) who = atom->tag[i];
+  }
+  if (!finite)
+    error->one(FLERR,
+               "Pair style cgms/shaped: the energy or the force {} is not finite (or so large "
+               "that the minimiser's force norm overflows) in a state of finite F: a keyword (wall_EA, soft, beta_a, beta_b, kg_ratio, "
+               "smooth) or material value is far outside its physical range; give values of "
+               "the order of the defaults (doc/pair_cgms_shaped.rst)",
+               who ? fmt::format("on bead {}", who) : std::string("sum"));
+}
+
+/* ----------------------------------------------------------------------
+   the state a run or minimize starts from has a cell turned inside out (infinite energy):
+   a line search steps back from such a trial state, but it cannot start from one
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::refuse_inverted()
+{
+  tagint who = 0;
+  for (int i = 0; i < atom->nlocal && !who; i++) {
+    double dEdF[4];
+    int bad = 0;
+    cell_term(i, dEdF, bad);
+    if (bad) who = atom->tag[i];
+  }
+  error->one(FLERR,
+             "Pair style cgms/shaped: the starting state has cell {} turned inside out (its fluid "
+             "area or det F is not positive), so its energy is infinite: start from the fresh "
+             "tissue's F (cgms.shaped_tensor.fresh_state) or a state a minimisation reached; or "
+             "a keyword (lamella, smooth, void) is far outside its physical range",
+             who);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -717,6 +875,113 @@ void PairCGMSShaped::unpack_forward_comm(int n, int first, double *buf)
     for (int k = 0; k < 4; k++) F[i][k] = buf[m++];
     boundary[i] = static_cast<int>(buf[m++]);
   }
+}
+
+/* ----------------------------------------------------------------------
+   restart files: the settings (dryness, reach, every Params field) as binary numbers, then
+   the material as a tagged "name value" text (as pair cgms's record: values printed so that
+   they read back to the same double; a file of another record version is refused)
+------------------------------------------------------------------------- */
+
+static constexpr int SHAPED_RECORD_TAG = 0x43475348;    // "CGSH"
+// raise this whenever the layout of the record changes
+static constexpr int SHAPED_RECORD_VERSION = 1;
+static constexpr int SHAPED_NUMBERS = 13;
+
+void PairCGMSShaped::write_restart_settings(FILE *fp)
+{
+  const int header[2] = {SHAPED_RECORD_TAG, SHAPED_RECORD_VERSION};
+  const double v[SHAPED_NUMBERS] = {dryness,      reach,        par.wall_EA,    par.buckle,
+                                    par.soft,     par.beta_a,   par.beta_b,     par.lamella,
+                                    par.kg_ratio, par.void_frac, par.void_onset, par.smooth,
+                                    par.iso};
+  fwrite(header, sizeof(int), 2, fp);
+  fwrite(v, sizeof(double), SHAPED_NUMBERS, fp);
+  fwrite(&par.contour, sizeof(int), 1, fp);
+}
+
+void PairCGMSShaped::read_restart_settings(FILE *fp)
+{
+  int header[2] = {0, 0};
+  double v[SHAPED_NUMBERS];
+  if (comm->me == 0) utils::sfread(FLERR, header, sizeof(int), 2, fp, nullptr, error);
+  MPI_Bcast(header, 2, MPI_INT, 0, world);
+  if (header[0] != SHAPED_RECORD_TAG || header[1] != SHAPED_RECORD_VERSION)
+    error->all(FLERR,
+               "Pair cgms/shaped: this restart file was written by another version of the CGMS "
+               "plugin (its record does not match this version's format {}); start from a data "
+               "file written with write_data, or read it with the plugin that wrote it",
+               SHAPED_RECORD_VERSION);
+  if (comm->me == 0) {
+    utils::sfread(FLERR, v, sizeof(double), SHAPED_NUMBERS, fp, nullptr, error);
+    utils::sfread(FLERR, &par.contour, sizeof(int), 1, fp, nullptr, error);
+  }
+  MPI_Bcast(v, SHAPED_NUMBERS, MPI_DOUBLE, 0, world);
+  MPI_Bcast(&par.contour, 1, MPI_INT, 0, world);
+  dryness = v[0];
+  reach = v[1];
+  par.wall_EA = v[2];
+  par.buckle = v[3];
+  par.soft = v[4];
+  par.beta_a = v[5];
+  par.beta_b = v[6];
+  par.lamella = v[7];
+  par.kg_ratio = v[8];
+  par.void_frac = v[9];
+  par.void_onset = v[10];
+  par.smooth = v[11];
+  par.iso = v[12];
+}
+
+void PairCGMSShaped::write_restart(FILE *fp)
+{
+  write_restart_settings(fp);
+  std::string text;
+  for (const auto &p : mat.parameters()) text += fmt::format("{} {}\n", p.first, p.second);
+  text += "file " + material_file + "\nend\n";
+  const int size = static_cast<int>(text.size());
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(text.data(), 1, text.size(), fp);
+}
+
+void PairCGMSShaped::read_restart(FILE *fp)
+{
+  read_restart_settings(fp);
+  allocate();
+  int size = 0;
+  if (comm->me == 0) utils::sfread(FLERR, &size, sizeof(int), 1, fp, nullptr, error);
+  MPI_Bcast(&size, 1, MPI_INT, 0, world);
+  const auto refuse = [&]() {
+    error->all(FLERR,
+               "Pair cgms/shaped: the material record of this restart file is damaged or of "
+               "another CGMS version; start from a data file written with write_data and give "
+               "pair_style and pair_coeff");
+  };
+  if (size <= 0 || size > (1 << 20)) refuse();
+  std::string text(size, '\0');
+  if (comm->me == 0) utils::sfread(FLERR, text.data(), 1, text.size(), fp, nullptr, error);
+  MPI_Bcast(text.data(), text.size(), MPI_CHAR, 0, world);
+  mat = CGMS::Material();
+  material_file.clear();
+  bool ended = false;
+  for (const auto &line : utils::split_lines(text)) {
+    if (line == "end") {
+      ended = true;
+      break;
+    }
+    if (utils::strmatch(line, "^file ")) {
+      material_file = line.substr(5);
+      continue;
+    }
+    const auto words = utils::split_words(line);
+    if (words.size() != 2) refuse();
+    mat.set(lmp, words[0], words[1], "restart file");
+  }
+  if (!ended) refuse();
+  mat.finish(lmp, "restart file");
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = 1; j <= atom->ntypes; j++) setflag[i][j] = 1;
+  add_force_property();
 }
 
 /* ----------------------------------------------------------------------

@@ -42,6 +42,10 @@ class PairCGMSShaped : public Pair {
   double memory_usage() override;
   int pack_forward_comm(int, int *, double *, int, int *) override;
   void unpack_forward_comm(int, int, double *) override;
+  void write_restart(FILE *) override;
+  void read_restart(FILE *) override;
+  void write_restart_settings(FILE *) override;
+  void read_restart_settings(FILE *) override;
 
   void min_xf_pointers(int, double **, double **) override;
   void min_xf_get(int) override;
@@ -60,6 +64,7 @@ class PairCGMSShaped : public Pair {
   // indices of the per-atom custom properties (Atom::find_custom)
   int iF, inb, ibondx, ibondy, iwallx, iwally, iid, inwall, iarea, iboundary, iforce;
   int nb_max, wall_max;    // columns of the neighbour and wall arrays
+  bool lists_asymmetric;   // init found a bond listed by one bead only
 
   double *target;    // G(F) of every local and ghost bead (4 per bead)
   int nmax_target;
@@ -73,8 +78,15 @@ class PairCGMSShaped : public Pair {
   std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
   std::vector<double> wall_scratch;       // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
   int cache_current;                      // 0 after init_style: rebuild before the next evaluation
+  std::string material_file;              // pair_coeff's arguments, for the restart record
 
+  void allocate();
   void add_force_property();
+  void check_fresh_neighbours();
+  void refuse_asymmetric_lists();
+  void refuse_renamed_ids();
+  void refuse_nonfinite(double energy);
+  void refuse_inverted();
   void find_properties();
   void fresh_strain_and_bond_length();
   void check_topology();

@@ -4,7 +4,8 @@
 """pair_style cgms/shaped's state travels: a restart file and a data file written by
 LAMMPS in the middle of a minimisation carry F and the fresh tissue's fixed data, so that
 the minimisation continues bit for bit from either (each ``minimize`` command starts its
-conjugate directions afresh, so the continuation is a second ``minimize`` in every run);
+conjugate directions afresh, so the continuation is a second ``minimize`` in every run;
+the restart file holds the pair's settings and material, so no pair line is given again);
 on two ranks too, where the files gather every rank's beads with their properties and
 scatter them again. The fixed data comes back unchanged."""
 
@@ -48,6 +49,11 @@ def test_restart_and_data_file_continue_bit_for_bit(tmp_path, nprocs):
                          f"processors {nprocs} 1 1" if nprocs > 1 else "", "read_restart mid.restart",
                          shaped_data.fix_command(geo), "neighbor 1.5e-5 bin",
                          "neigh_modify every 1 delay 0 check yes", ""])
+    # the pair's settings and material come from the restart file: no pair lines
+    sl.run_lmp(tmp_path, restart + MIN + STEP + FINAL, nprocs=nprocs)
+    assert read_final(tmp_path / "final.dump") == whole
+    (tmp_path / "final.dump").unlink()
+    # and pair_style and pair_coeff given again as before give the same
     sl.run_lmp(tmp_path, restart + physics + MIN + STEP + FINAL, nprocs=nprocs)
     assert read_final(tmp_path / "final.dump") == whole
     (tmp_path / "final.dump").unlink()
