@@ -9,10 +9,13 @@
 
 #include "cgms_parameter_file.h"
 
+#include "comm.h"
 #include "error.h"
 #include "lammps.h"
 #include "math_const.h"
 #include "utils.h"
+
+#include <mpi.h>
 
 #include <cmath>
 
@@ -162,4 +165,59 @@ std::vector<std::pair<std::string, double>> CGMS::Material::parameters() const
   std::vector<std::pair<std::string, double>> values;
   for (const auto &e : entries) values.emplace_back(e.name, this->*e.member);
   return values;
+}
+
+/* ----------------------------------------------------------------------
+   the material record of a restart file. A restart file of another plugin
+   version (other parameters, or the raw struct bytes of format 1) is refused
+   by the caller instead of being read wrongly; values are printed so that
+   they read back to the same double.
+------------------------------------------------------------------------- */
+
+static constexpr int MATERIAL_RECORD_TAG = 0x43474d53;    // "CGMS"
+// raise this whenever the layout of the record changes (2: name/value text)
+static constexpr int MATERIAL_RECORD_VERSION = 2;
+
+void CGMS::Material::write_record(FILE *fp, const std::string &key, const std::string &value) const
+{
+  std::string text;
+  for (const auto &p : parameters()) text += fmt::format("{} {}\n", p.first, p.second);
+  text += key + " " + value + "\nend\n";
+  const int header[3] = {MATERIAL_RECORD_TAG, MATERIAL_RECORD_VERSION,
+                         static_cast<int>(text.size())};
+  fwrite(header, sizeof(int), 3, fp);
+  fwrite(text.data(), 1, text.size(), fp);
+}
+
+bool CGMS::Material::read_record(LAMMPS *lmp, FILE *fp, const std::string &key,
+                                 std::string &value)
+{
+  int header[3] = {0, 0, 0};
+  if (lmp->comm->me == 0) utils::sfread(FLERR, header, sizeof(int), 3, fp, nullptr, lmp->error);
+  MPI_Bcast(header, 3, MPI_INT, 0, lmp->world);
+  if (header[0] != MATERIAL_RECORD_TAG || header[1] != MATERIAL_RECORD_VERSION || header[2] <= 0 ||
+      header[2] > (1 << 20))
+    return false;
+  std::string text(header[2], '\0');
+  if (lmp->comm->me == 0)
+    utils::sfread(FLERR, text.data(), 1, text.size(), fp, nullptr, lmp->error);
+  MPI_Bcast(text.data(), text.size(), MPI_CHAR, 0, lmp->world);
+
+  *this = Material();
+  value.clear();
+  const std::string prefix = key + " ";
+  for (const auto &line : utils::split_lines(text)) {
+    if (line == "end") {
+      finish(lmp, "restart file");
+      return true;
+    }
+    if (utils::strmatch(line, "^" + prefix)) {
+      value = line.substr(prefix.size());
+      continue;
+    }
+    const auto words = utils::split_words(line);
+    if (words.size() != 2) return false;
+    set(lmp, words[0], words[1], "restart file");
+  }
+  return false;
 }

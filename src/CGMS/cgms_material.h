@@ -10,6 +10,7 @@
 
 #include "cgms_laws.h"
 
+#include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
@@ -60,6 +61,14 @@ namespace CGMS {
              const std::string &where);
     // check ranges and completeness, derive the reference cell
     void finish(LAMMPS *lmp, const std::string &where);
+
+    // the material record of a restart file (pair cgms, pair cgms/shaped): a tag, a format
+    // version and the size of a text of "name value" lines, one per parameter, then one
+    // "<key> <value>" line of the style's own (its pair_coeff arguments) and "end".
+    // read_record fills this material and value and returns false for a record of
+    // another format (the caller names the cure); every rank calls it
+    void write_record(FILE *fp, const std::string &key, const std::string &value) const;
+    bool read_record(LAMMPS *lmp, FILE *fp, const std::string &key, std::string &value);
 
     // every parameter of the table with its value, in table order (r0 resolved)
     std::vector<std::pair<std::string, double>> parameters() const;

@@ -462,69 +462,25 @@ void PairCGMS::read_restart_settings(FILE *fp)
 }
 
 /* ----------------------------------------------------------------------
-   the material record: a tag, a format version and the size of a text of
-   "name value" lines, one per parameter of the material table, then the
-   pair_coeff arguments and "end". A restart file of another plugin version
-   (other parameters, or the raw struct bytes of format 1) stops with an
-   error instead of being read wrongly; values are printed so that they read
-   back to the same double.
+   the material record (CGMS::Material::write_record) with the pair_coeff
+   arguments
 ------------------------------------------------------------------------- */
-
-static constexpr int MATERIAL_RECORD_TAG = 0x43474d53;    // "CGMS"
-// raise this whenever the layout of the record changes (2: name/value text)
-static constexpr int MATERIAL_RECORD_VERSION = 2;
 
 void PairCGMS::write_restart(FILE *fp)
 {
   write_restart_settings(fp);
-  std::string text;
-  for (const auto &p : mat.parameters()) text += fmt::format("{} {}\n", p.first, p.second);
-  text += "pair_coeff " + coeff_line + "\nend\n";
-  const int header[3] = {MATERIAL_RECORD_TAG, MATERIAL_RECORD_VERSION,
-                         static_cast<int>(text.size())};
-  fwrite(header, sizeof(int), 3, fp);
-  fwrite(text.data(), 1, text.size(), fp);
+  mat.write_record(fp, "pair_coeff", coeff_line);
 }
 
 void PairCGMS::read_restart(FILE *fp)
 {
   read_restart_settings(fp);
   allocate();
-  int header[3] = {0, 0, 0};
-  if (comm->me == 0) utils::sfread(FLERR, header, sizeof(int), 3, fp, nullptr, error);
-  MPI_Bcast(header, 3, MPI_INT, 0, world);
-  const auto refuse = [&]() {
+  if (!mat.read_record(lmp, fp, "pair_coeff", coeff_line))
     error->all(FLERR,
                "Pair cgms: this restart file was written by another version of the CGMS "
-               "plugin (its material record does not match this version's format {}); start "
-               "from a data file, or read it with the plugin that wrote it",
-               MATERIAL_RECORD_VERSION);
-  };
-  if (header[0] != MATERIAL_RECORD_TAG || header[1] != MATERIAL_RECORD_VERSION || header[2] <= 0 ||
-      header[2] > (1 << 20))
-    refuse();
-  std::string text(header[2], '\0');
-  if (comm->me == 0) utils::sfread(FLERR, text.data(), 1, text.size(), fp, nullptr, error);
-  MPI_Bcast(text.data(), text.size(), MPI_CHAR, 0, world);
-
-  mat = CGMS::Material();
-  coeff_line.clear();
-  bool ended = false;
-  for (const auto &line : utils::split_lines(text)) {
-    if (line == "end") {
-      ended = true;
-      break;
-    }
-    if (utils::strmatch(line, "^pair_coeff ")) {
-      coeff_line = line.substr(11);
-      continue;
-    }
-    const auto words = utils::split_words(line);
-    if (words.size() != 2) refuse();
-    mat.set(lmp, words[0], words[1], "restart file");
-  }
-  if (!ended) refuse();
-  mat.finish(lmp, "restart file");
+               "plugin (its material record does not match this version's format); start "
+               "from a data file, or read it with the plugin that wrote it");
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
 }

@@ -936,49 +936,18 @@ void PairCGMSShaped::read_restart_settings(FILE *fp)
 void PairCGMSShaped::write_restart(FILE *fp)
 {
   write_restart_settings(fp);
-  std::string text;
-  for (const auto &p : mat.parameters()) text += fmt::format("{} {}\n", p.first, p.second);
-  text += "file " + material_file + "\nend\n";
-  const int size = static_cast<int>(text.size());
-  fwrite(&size, sizeof(int), 1, fp);
-  fwrite(text.data(), 1, text.size(), fp);
+  mat.write_record(fp, "file", material_file);
 }
 
 void PairCGMSShaped::read_restart(FILE *fp)
 {
   read_restart_settings(fp);
   allocate();
-  int size = 0;
-  if (comm->me == 0) utils::sfread(FLERR, &size, sizeof(int), 1, fp, nullptr, error);
-  MPI_Bcast(&size, 1, MPI_INT, 0, world);
-  const auto refuse = [&]() {
+  if (!mat.read_record(lmp, fp, "file", material_file))
     error->all(FLERR,
                "Pair cgms/shaped: the material record of this restart file is damaged or of "
                "another CGMS version; start from a data file written with write_data and give "
                "pair_style and pair_coeff");
-  };
-  if (size <= 0 || size > (1 << 20)) refuse();
-  std::string text(size, '\0');
-  if (comm->me == 0) utils::sfread(FLERR, text.data(), 1, text.size(), fp, nullptr, error);
-  MPI_Bcast(text.data(), text.size(), MPI_CHAR, 0, world);
-  mat = CGMS::Material();
-  material_file.clear();
-  bool ended = false;
-  for (const auto &line : utils::split_lines(text)) {
-    if (line == "end") {
-      ended = true;
-      break;
-    }
-    if (utils::strmatch(line, "^file ")) {
-      material_file = line.substr(5);
-      continue;
-    }
-    const auto words = utils::split_words(line);
-    if (words.size() != 2) refuse();
-    mat.set(lmp, words[0], words[1], "restart file");
-  }
-  if (!ended) refuse();
-  mat.finish(lmp, "restart file");
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = 1; j <= atom->ntypes; j++) setflag[i][j] = 1;
   add_force_property();
