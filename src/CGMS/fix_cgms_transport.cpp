@@ -154,6 +154,72 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "Fix cgms/transport requires units si (its parameters are SI), not units {}",
                update->unit_style);
 
+  set_defaults();
+
+  params_file = arg[3];
+  read_params(arg[3]);
+  parse_keywords(narg, arg);
+
+  // the linear law has no vapour pressure, so no heat balance: D at the air temperature
+  if (linear_law) heat = 0;
+  multiplicity = faces == 2 ? 2 : 1;
+  dt_given = dt_move;
+  air_coefficients();
+
+  initialised = 0;
+  time = water0 = water = solids = out_face = out_edge = out_gone = gone0 = rate = 0.0;
+  beads = 0;
+  t_product = t_air;
+  nmoves = 0;
+  cg_iterations = 0;
+  halvings = 0;
+  comm_mode = MODE_STATE;
+  // the outputs before the first setup: nothing has dried yet
+  for (double &v : vec) v = 0.0;
+  vec[2] = vec[7] = vec[8] = 1.0;
+  vec[10] = t_air;
+  vec[11] = dt_move;
+
+  nstore = NHEAD + layers + 3;
+  vector_flag = 1;
+  size_vector = NVECTOR;
+  global_freq = 1;
+  extvector = 0;
+  peratom_flag = 1;
+  size_peratom_cols = 4;
+  peratom_freq = 1;
+  // the state lives in the fix property/atom STATE_FIX; this fix's own restart
+  // record only tells which layout wrote the file
+  restart_global = 1;
+  comm_forward = layers + 2;
+  dynamic_group_allow = 0;
+  create_attribute = 1;
+  maxexchange = 5;    // the outputs and the own flag
+  wd_section = 1;     // only to say in the data file that the columns are not in it
+
+  // the solver's ghost exchange: this fix's forward communication of a node array
+  cg = new CGMS::ColumnCG(world, [this](double *v) {
+    comm_vec = v;
+    comm_mode = MODE_DIRECTION;
+    comm->forward_comm(this, layers);
+  });
+
+  FixCGMSTransport::grow_arrays(atom->nmax);
+  atom->add_callback(Atom::GROW);
+  // the beads present now own their rows (fresh, or from a restart file or an earlier
+  // fix); beads created later do not
+  for (int i = 0; i < atom->nlocal; i++) {
+    for (int m = 0; m < 4; m++) out[i][m] = 1.0;
+    own[i] = 1;
+  }
+}
+
+/* ----------------------------------------------------------------------
+   the keywords' defaults (doc/fix_cgms_transport.rst)
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::set_defaults()
+{
   layers = 10;
   faces = 2;
   inplane = outline = heat = shrink = 1;
@@ -172,10 +238,14 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   cg_max = 2000;
   until = -1.0;
   nevery = 1;
+}
 
-  params_file = arg[3];
-  read_params(arg[3]);
+/* ----------------------------------------------------------------------
+   the keywords after the parameter file, each checked where it is read
+------------------------------------------------------------------------- */
 
+void FixCGMSTransport::parse_keywords(int narg, char **arg)
+{
   int iarg = 4;
   auto need = [&](int n) {
     if (iarg + n >= narg)
@@ -240,45 +310,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     } else if (key == "temperature" || key == "humidity" || key == "velocity" || key == "plate" ||
                key == "thickness" || key == "cutoff" || key == "smin") {
       need(1);
-      double v = number(iarg + 1);
-      if (key == "temperature") {
-        if (!(v > -20.0 && v < 150.0))
-          error->all(
-              FLERR,
-              "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}",
-              v);
-        t_air = v;
-      } else if (key == "humidity") {
-        if (!(v >= 0.0 && v < 1.0))
-          error->all(FLERR,
-                     "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}", v);
-        humidity = v;
-      } else if (key == "velocity" && !(v > 0.0)) {
-        error->all(FLERR,
-                   "Fix cgms/transport velocity must be > 0 m/s, got {}: the air-side "
-                   "coefficients come from forced convection over the slice (Sherwood number "
-                   "of a flat plate), which needs moving air; natural convection is not "
-                   "modelled. For a slice sealed from the air use faces 0 and outline no",
-                   v);
-      } else if (key == "smin" && !(v > 0.0 && v <= 1.0)) {
-        error->all(FLERR,
-                   "Fix cgms/transport smin is the lowest dryness handed to the mechanics, "
-                   "0 < smin <= 1 (fix cgms/fluid takes dryness in (0, 1]), got {}",
-                   v);
-      } else {
-        if (key != "smin" && !(v > 0.0))
-          error->all(FLERR, "Fix cgms/transport {} (m) must be > 0, got {}", key, v);
-        if (key == "velocity")
-          velocity = v;
-        else if (key == "plate")
-          plate = v;
-        else if (key == "thickness")
-          thickness = v;
-        else if (key == "cutoff")
-          cutoff_user = v;
-        else
-          s_min = v;
-      }
+      set_number_keyword(key, number(iarg + 1));
       iarg += 2;
     } else if (key == "surface") {
       need(1);
@@ -324,57 +356,51 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
                  "cutoff smin surface until tolerance)",
                  key);
   }
-  // the linear law has no vapour pressure, so no heat balance: D at the air temperature
-  if (linear_law) heat = 0;
-  multiplicity = faces == 2 ? 2 : 1;
-  dt_given = dt_move;
-  air_coefficients();
+}
 
-  initialised = 0;
-  time = water0 = water = solids = out_face = out_edge = out_gone = gone0 = rate = 0.0;
-  beads = 0;
-  t_product = t_air;
-  nmoves = 0;
-  cg_iterations = 0;
-  halvings = 0;
-  comm_mode = MODE_STATE;
-  // the outputs before the first setup: nothing has dried yet
-  for (double &v : vec) v = 0.0;
-  vec[2] = vec[7] = vec[8] = 1.0;
-  vec[10] = t_air;
-  vec[11] = dt_move;
+/* ----------------------------------------------------------------------
+   the air and size keywords, one finite number each
+------------------------------------------------------------------------- */
 
-  nstore = NHEAD + layers + 3;
-  vector_flag = 1;
-  size_vector = NVECTOR;
-  global_freq = 1;
-  extvector = 0;
-  peratom_flag = 1;
-  size_peratom_cols = 4;
-  peratom_freq = 1;
-  // the state lives in the fix property/atom STATE_FIX; this fix's own restart
-  // record only tells which layout wrote the file
-  restart_global = 1;
-  comm_forward = layers + 2;
-  dynamic_group_allow = 0;
-  create_attribute = 1;
-  maxexchange = 5;    // the outputs and the own flag
-  wd_section = 1;     // only to say in the data file that the columns are not in it
-
-  // the solver's ghost exchange: this fix's forward communication of a node array
-  cg = new CGMS::ColumnCG(world, [this](double *v) {
-    comm_vec = v;
-    comm_mode = MODE_DIRECTION;
-    comm->forward_comm(this, layers);
-  });
-
-  FixCGMSTransport::grow_arrays(atom->nmax);
-  atom->add_callback(Atom::GROW);
-  // the beads present now own their rows (fresh, or from a restart file or an earlier
-  // fix); beads created later do not
-  for (int i = 0; i < atom->nlocal; i++) {
-    for (int m = 0; m < 4; m++) out[i][m] = 1.0;
-    own[i] = 1;
+void FixCGMSTransport::set_number_keyword(const std::string &key, double v)
+{
+  if (key == "temperature") {
+    if (!(v > -20.0 && v < 150.0))
+      error->all(
+          FLERR,
+          "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}",
+          v);
+    t_air = v;
+  } else if (key == "humidity") {
+    if (!(v >= 0.0 && v < 1.0))
+      error->all(FLERR,
+                 "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}", v);
+    humidity = v;
+  } else if (key == "velocity" && !(v > 0.0)) {
+    error->all(FLERR,
+               "Fix cgms/transport velocity must be > 0 m/s, got {}: the air-side "
+               "coefficients come from forced convection over the slice (Sherwood number "
+               "of a flat plate), which needs moving air; natural convection is not "
+               "modelled. For a slice sealed from the air use faces 0 and outline no",
+               v);
+  } else if (key == "smin" && !(v > 0.0 && v <= 1.0)) {
+    error->all(FLERR,
+               "Fix cgms/transport smin is the lowest dryness handed to the mechanics, "
+               "0 < smin <= 1 (fix cgms/fluid takes dryness in (0, 1]), got {}",
+               v);
+  } else {
+    if (key != "smin" && !(v > 0.0))
+      error->all(FLERR, "Fix cgms/transport {} (m) must be > 0, got {}", key, v);
+    if (key == "velocity")
+      velocity = v;
+    else if (key == "plate")
+      plate = v;
+    else if (key == "thickness")
+      thickness = v;
+    else if (key == "cutoff")
+      cutoff_user = v;
+    else
+      s_min = v;
   }
 }
 

@@ -128,6 +128,9 @@ class FixCGMSTransport : public Fix {
   void save_globals();
   void account_removed();
   void read_params(const char *);
+  void set_defaults();
+  void parse_keywords(int narg, char **arg);
+  void set_number_keyword(const std::string &key, double v);
   void air_coefficients();
   void set_output(int);
   void initialise_columns();

@@ -159,6 +159,32 @@ def test_no_module_over_600_lines():
     assert long == {}, f"split these by job: {long}"
 
 
+def function_lengths(source):
+    """(first line, length in lines) of every function body in LAMMPS-formatted C++: a body
+    opens with '{' alone in column 0 and closes with '}' in column 0."""
+    lines = source.split("\n")
+    start = None
+    for i, line in enumerate(lines):
+        if line.startswith("{"):
+            start = i
+        elif line.startswith("}") and start is not None:
+            yield lines[start - 1].strip(), i - start
+            start = None
+
+
+def test_no_cpp_function_over_150_lines():
+    # issue 29: small functions with one job; a long one is split where its steps part
+    long = [f"{path.name}: {head[:60]} ({n} lines)"
+            for path in sorted((ROOT / "src" / "CGMS").glob("*.cpp"))
+            for head, n in function_lengths(path.read_text()) if n > 150]
+    assert not long, "\n".join(long)
+
+
+def test_a_long_function_is_found():
+    body = "\n".join(["  x++;"] * 151)
+    assert [n for _, n in function_lengths(f"void f()\n{{\n{body}\n}}\n")] == [152]
+
+
 def test_only_the_command_line_imports_it():
     """cgms.cli is the top: no library module imports it (the CLI's own modules may)."""
     graph = import_graph()
