@@ -189,8 +189,7 @@ void CGMS::Material::write_record(FILE *fp, const std::string &key, const std::s
   fwrite(text.data(), 1, text.size(), fp);
 }
 
-bool CGMS::Material::read_record(LAMMPS *lmp, FILE *fp, const std::string &key,
-                                 std::string &value)
+bool CGMS::Material::read_record(LAMMPS *lmp, FILE *fp, const std::string &key, std::string &value)
 {
   int header[3] = {0, 0, 0};
   if (lmp->comm->me == 0) utils::sfread(FLERR, header, sizeof(int), 3, fp, nullptr, lmp->error);

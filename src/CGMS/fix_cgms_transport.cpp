@@ -368,13 +368,12 @@ void FixCGMSTransport::set_number_keyword(const std::string &key, double v)
     if (!(v > -20.0 && v < 150.0))
       error->all(
           FLERR,
-          "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}",
-          v);
+          "Fix cgms/transport temperature is the air temperature in deg C (-20 to 150), got {}", v);
     t_air = v;
   } else if (key == "humidity") {
     if (!(v >= 0.0 && v < 1.0))
-      error->all(FLERR,
-                 "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}", v);
+      error->all(FLERR, "Fix cgms/transport humidity is a relative humidity, 0 <= RH < 1, got {}",
+                 v);
     humidity = v;
   } else if (key == "velocity" && !(v > 0.0)) {
     error->all(FLERR,
@@ -804,9 +803,10 @@ void FixCGMSTransport::check_not_dried()
                "afresh at X0 on purpose, delete that line from the data file",
                note);
   else if (noted)
-    error->all(FLERR, "Fix cgms/transport: the tissue was read from a data file written after "
-                      "fix cgms/transport had dried it, without its moisture columns: continue "
-                      "it from a restart file");
+    error->all(FLERR,
+               "Fix cgms/transport: the tissue was read from a data file written after "
+               "fix cgms/transport had dried it, without its moisture columns: continue "
+               "it from a restart file");
   tagint first;
   MPI_Allreduce(&dried, &first, 1, MPI_LMP_TAGINT, MPI_MIN, world);
   if (first != MAXTAGINT)
