@@ -139,11 +139,14 @@ def steady_spacing(mat, s):
     return model.steady_spacing(mat, s)
 
 
-def write(path, source, values, note="", overwrite=False, contributor="cgms calibrate"):
+def write(path, source, values, note="", overwrite=False, contributor="cgms calibrate",
+          model="cgms"):
     """A new material file: ``source`` (a file of ``potentials/``) with ``values``
     ({name: value}) replacing its own, marked as fitted, under a header saying how it was
     made. Names absent from ``source`` are appended. An existing ``path`` is kept unless
-    ``overwrite`` (FileExistsError). The file is read back and checked."""
+    ``overwrite`` (FileExistsError). The file is read back and checked. Its first line
+    carries ``MODEL: <model>``, the pair style the values were fitted for (cgms.calibrate
+    fits pair_style cgms): the plugin's other styles refuse the file."""
     source = find(source)
     lines = source.read_text().splitlines()
     old = read(source)
@@ -165,7 +168,8 @@ def write(path, source, values, note="", overwrite=False, contributor="cgms cali
             body.append(raw)
     for name, v in left.items():
         body.append(f"{name:<13} {v!r:<9} # fitted (not in {source.name})")
-    header = [f"# DATE: {date.today().isoformat()} UNITS: si CONTRIBUTOR: {contributor}",
+    header = [f"# DATE: {date.today().isoformat()} UNITS: si CONTRIBUTOR: {contributor} "
+              f"MODEL: {model}",
               f"# Calibrated by cgms.calibrate from {source.name}:"]
     words, line = note.split(), "#"
     for w in words:

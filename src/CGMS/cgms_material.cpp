@@ -96,12 +96,33 @@ const char *range_text(Range r)
 void CGMS::Material::read_file(LAMMPS *lmp, const std::string &file)
 {
   const auto where = fmt::format("CGMS material file {}", file);
+  std::string first_line;
   for (const auto &p : read_parameter_file(
            lmp, file, where,
            fmt::format("Cannot open CGMS material file {}: give a path, or put it in a folder "
                        "listed in LAMMPS_POTENTIALS",
-                       file)))
+                       file),
+           &first_line))
     set(lmp, p.name, p.value, fmt::format("{} line {}", where, p.line));
+  model = potential_file_tag(first_line, "MODEL");
+}
+
+/* ----------------------------------------------------------------------
+   a calibrated file holds the values one model needs to match the fine model (fitted
+   k_T, k_PA, beta, lj_slope ... of pair cgms): read by another model they would give it
+   other physics without a word
+------------------------------------------------------------------------- */
+
+void CGMS::Material::require_model(LAMMPS *lmp, const std::string &style,
+                                   const std::string &file) const
+{
+  if (model.empty() || model == style) return;
+  lmp->error->all(FLERR,
+                  "Pair style {}: CGMS material file {} was calibrated for pair_style {} (its "
+                  "first line says 'MODEL: {}'), and its fitted values hold for that model only; "
+                  "give a file of measured values (apple.cgms, potato.cgms) or one calibrated for "
+                  "{}",
+                  style, file, model, model, style);
 }
 
 /* ---------------------------------------------------------------------- */

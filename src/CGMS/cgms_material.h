@@ -50,12 +50,19 @@ namespace CGMS {
     double k_S_floor = 0.0;       // k_S(s) never falls below it (N/m); 0 = no floor
 
     unsigned long given = 0;    // bit k set: parameter k was given
+    // the pair style a file's values were calibrated for, from the "MODEL:" tag of its
+    // first line (cgms.material.write marks a fit so); empty: measured values, which every
+    // style may read
+    std::string model;
 
     // derived by finish()
     double A_ref = 0.0, b_ref = 0.0, l_ref = 0.0, x_ref = 0.0;
 
     // read "name value" lines; error->all() names any problem
     void read_file(LAMMPS *lmp, const std::string &file);
+    // error->all() unless the file read is for pair style 'style' (its MODEL tag empty or
+    // style): a model's fitted values mean nothing to another model
+    void require_model(LAMMPS *lmp, const std::string &style, const std::string &file) const;
     // set one parameter by name (material file line or pair_coeff override)
     void set(LAMMPS *lmp, const std::string &name, const std::string &value,
              const std::string &where);

@@ -19,7 +19,8 @@ using namespace LAMMPS_NS;
 
 std::vector<CGMS::ParameterLine> CGMS::read_parameter_file(LAMMPS *lmp, const std::string &file,
                                                            const std::string &where,
-                                                           const std::string &cannot_open)
+                                                           const std::string &cannot_open,
+                                                           std::string *first_line)
 {
   std::string text;
   int ok = 1;
@@ -40,6 +41,7 @@ std::vector<CGMS::ParameterLine> CGMS::read_parameter_file(LAMMPS *lmp, const st
   MPI_Bcast(&len, 1, MPI_INT, 0, lmp->world);
   text.resize(len);
   MPI_Bcast(text.data(), len, MPI_CHAR, 0, lmp->world);
+  if (first_line) *first_line = text.substr(0, text.find('\n'));
 
   std::vector<ParameterLine> lines;
   std::set<std::string> seen;
@@ -62,4 +64,12 @@ std::vector<CGMS::ParameterLine> CGMS::read_parameter_file(LAMMPS *lmp, const st
     lines.push_back({words[0], words[1], lineno});
   }
   return lines;
+}
+
+std::string CGMS::potential_file_tag(const std::string &first_line, const std::string &tag)
+{
+  const auto words = utils::split_words(first_line);
+  for (std::size_t k = 0; k + 1 < words.size(); k++)
+    if (words[k] == tag + ":") return words[k + 1];
+  return "";
 }

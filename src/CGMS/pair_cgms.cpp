@@ -144,6 +144,7 @@ void PairCGMS::coeff(int narg, char **arg)
   coeff_line = "* *";
   for (int iarg = 2; iarg < narg; iarg++) coeff_line += std::string(" ") + arg[iarg];
   mat.read_file(lmp, arg[2]);
+  mat.require_model(lmp, "cgms", arg[2]);
   for (int iarg = 3; iarg < narg; iarg += 2) mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
   mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
 

@@ -149,6 +149,7 @@ void PairCGMSShaped::coeff(int narg, char **arg)
   allocate();
   mat = CGMS::Material();
   mat.read_file(lmp, arg[2]);
+  mat.require_model(lmp, "cgms/shaped", arg[2]);
   for (int iarg = 3; iarg < narg; iarg += 2) mat.set(lmp, arg[iarg], arg[iarg + 1], "pair_coeff");
   mat.finish(lmp, fmt::format("CGMS material {}", arg[2]));
   material_file = arg[2];
