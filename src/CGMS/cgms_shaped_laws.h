@@ -57,10 +57,11 @@ namespace CGMS {
     // one wall of chord l and rest length r: EA/(2r) (l - r)^2 while stretched or
     // mildly compressed; shorter than r - buckle r / EA it buckles and pushes with buckle
     // plus soft EA/r times the further shortening (shaped.wall_energy); de = dE/dl
-    inline double wall_energy(double l, double r, double EA, double buckle, double soft, double &de)
+    // the same with the wall's stiffness k = EA / r and buckling length lb = r - buckle / k
+    // given (fixed per wall: pair cgms/shaped keeps them per neighbour list)
+    inline double wall_energy_k(double l, double r, double k, double lb, double buckle, double soft,
+                                double &de)
     {
-      const double k = EA / r;
-      const double lb = r - buckle / k;
       if (l >= lb) {
         de = k * (l - r);
         return 0.5 * k * (l - r) * (l - r);
@@ -69,6 +70,11 @@ namespace CGMS {
       de = -buckle - soft * k * shortening;
       return 0.5 * buckle * buckle / k + buckle * shortening +
           0.5 * soft * k * shortening * shortening;
+    }
+    inline double wall_energy(double l, double r, double EA, double buckle, double soft, double &de)
+    {
+      const double k = EA / r;
+      return wall_energy_k(l, r, k, r - buckle / k, buckle, soft, de);
     }
 
     // a wall's length along its folds (the strip's length): the chord, or with contour

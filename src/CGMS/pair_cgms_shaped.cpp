@@ -18,6 +18,7 @@
 #include "neighbor.h"
 #include "update.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -377,12 +378,13 @@ void PairCGMSShaped::check_fresh_neighbours()
   if (first_all != MAXTAGINT) {
     tagint named = bad[0] == first_all ? bad[1] : 0, named_all;
     MPI_Allreduce(&named, &named_all, 1, MPI_LMP_TAGINT, MPI_MAX, world);
-    error->all(FLERR,
-               "Pair style cgms/shaped: bead {} lists fresh neighbour {}, which is not a bead of "
-               "this tissue (an ID above the largest, the bead itself, listed twice, or a bond of zero "
-               "length): the data file's shaped properties are damaged or were edited; write "
-               "the tissue again with cgms.shaped_data.write_data()",
-               first_all, named_all);
+    error->all(
+        FLERR,
+        "Pair style cgms/shaped: bead {} lists fresh neighbour {}, which is not a bead of "
+        "this tissue (an ID above the largest, the bead itself, listed twice, or a bond of zero "
+        "length): the data file's shaped properties are damaged or were edited; write "
+        "the tissue again with cgms.shaped_data.write_data()",
+        first_all, named_all);
   }
   uint64_t pairing_all;
   double sum_all[2], scale_all;
@@ -392,8 +394,8 @@ void PairCGMSShaped::check_fresh_neighbours()
   // the bond vectors cancel in pairs to rounding: 64 ulp of their magnitude is far above it
   // reported by check_topology after its search for deleted neighbours (a deleted bead
   // leaves its neighbours' lists unanswered too, and that cause is the one to name)
-  lists_asymmetric =
-      pairing_all != 0 || std::hypot(sum_all[0], sum_all[1]) > 64.0 * DBL_EPSILON * scale_all;
+  lists_asymmetric = pairing_all != 0 ||
+      std::hypot(sum_all[0], sum_all[1]) > 64.0 * DBL_EPSILON * scale_all;
 }
 
 void PairCGMSShaped::refuse_asymmetric_lists()
@@ -525,41 +527,63 @@ void PairCGMSShaped::cache_fresh_data()
   const int nlocal = atom->nlocal;
   const double w = par.lamella * mat.pectin;
   const double contraction = mat.perimeter_contraction(dryness);
-  const double beta = CGMS::beta(par.beta_a, par.beta_b, dryness);
   const int *nwall = atom->ivector[inwall];
   const double *area0 = atom->dvector[iarea];
-  const int *boundary = atom->ivector[iboundary];
   double **wallx = atom->darray[iwallx], **wally = atom->darray[iwally];
-  int **nb = atom->iarray[inb];
 
-  wall_rest.resize((size_t) nlocal * wall_max);
+  walls.resize((size_t) nlocal * wall_max);
   wall_scratch.resize(3 * (size_t) wall_max);
   rest_sum.resize(nlocal);
   fluid_area0.resize(nlocal);
-  bond_j.resize((size_t) nlocal * nb_max);
-  bond_half_f.resize((size_t) nlocal * nb_max);
   for (int i = 0; i < nlocal; i++) {
-    double *rest = &wall_rest[(size_t) i * wall_max];
+    Wall *wall = &walls[(size_t) i * wall_max];
     double L0 = 0.0, R = 0.0;
     for (int e = 0; e < nwall[i]; e++) {
       const double dx = wallx[i][e], dy = wally[i][e];
       const double chord0 = std::sqrt(dx * dx + dy * dy);
       L0 += chord0;
-      rest[e] = chord0 / (1.0 + eps) * contraction;
-      R += rest[e];
+      const double rest = chord0 / (1.0 + eps) * contraction;
+      const double k = par.wall_EA / rest;
+      wall[e] = {dx, dy, rest, k, rest - par.buckle / k, par.smooth * eps * rest};
+      R += rest;
     }
     rest_sum[i] = R;
     fluid_area0[i] = dryness * CGMS::Shaped::fresh_fluid_area(area0[i], L0, par.void_frac, w);
+  }
+  cache_bonds();
+}
+
+/* ----------------------------------------------------------------------
+   the fresh bonds each local bead evaluates: a bond between two local beads that are each
+   other's closest image once (by the lower local index, its share applied to both), any
+   other bond (to a ghost: its owner evaluates its own half) by each of its local beads
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::cache_bonds()
+{
+  const int nlocal = atom->nlocal;
+  const double beta = CGMS::beta(par.beta_a, par.beta_b, dryness);
+  const int *boundary = atom->ivector[iboundary];
+  const tagint *tag = atom->tag;
+  double **bondx = atom->darray[ibondx], **bondy = atom->darray[ibondy];
+  int **nb = atom->iarray[inb];
+
+  bonds.clear();
+  bond_first.resize(nlocal + 1);
+  bond_sums.resize(6 * (size_t) nlocal);
+  for (int i = 0; i < nlocal; i++) {
+    bond_first[i] = (int) bonds.size();
     for (int b = 0; b < nb_max; b++) {
-      const size_t ib = (size_t) i * nb_max + b;
-      bond_j[ib] = -1;
       if (nb[i][b] <= 0) continue;
       // check_topology has made sure that every fresh neighbour is here
       const int j = domain->closest_image(i, atom->map(nb[i][b]));
-      bond_j[ib] = j;
-      bond_half_f[ib] = 0.5 * (boundary[i] && boundary[j] ? beta : 1.0);
+      const int paired = j < nlocal && domain->closest_image(j, atom->map(tag[i])) == i;
+      if (paired && j < i) continue;    // bead j evaluates it
+      const double hf = 0.5 * (boundary[i] && boundary[j] ? beta : 1.0);
+      bonds.push_back({j, paired, hf * bondx[i][b], hf * bondy[i][b]});
     }
   }
+  bond_first[nlocal] = (int) bonds.size();
 }
 
 /* ----------------------------------------------------------------------
@@ -574,26 +598,26 @@ void PairCGMSShaped::cache_fresh_data()
 
 double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
 {
-  const double *F = atom->darray[iF][i];
-  const double *d0x = atom->darray[iwallx][i], *d0y = atom->darray[iwally][i];
+  // F in registers: the scratch stores below could alias it
+  const double F[4] = {atom->darray[iF][i][0], atom->darray[iF][i][1], atom->darray[iF][i][2],
+                       atom->darray[iF][i][3]};
+  const Wall *walls_i = &walls[(size_t) i * wall_max];
   const int nw = atom->ivector[inwall][i];
   const double area0 = atom->dvector[iarea][i];
-  const double *rest = &wall_rest[(size_t) i * wall_max];
   double *inv_len = wall_scratch.data(), *m1 = inv_len + wall_max, *de = m1 + wall_max;
   const double w = par.lamella * mat.pectin;
-  const double EA = par.wall_EA, buckle = par.buckle, soft = par.soft;
-  const double smooth_eps = par.smooth * eps;
+  const double buckle = par.buckle, soft = par.soft;
   const int contour = par.contour;
 
   double S = 0.0, sum_m = 0.0, wall = 0.0;
   for (int e = 0; e < nw; e++) {
-    const double dx = d0x[e], dy = d0y[e];
-    const double c0 = F[0] * dx + F[1] * dy, c1 = F[2] * dx + F[3] * dy;
+    const Wall &we = walls_i[e];
+    const double c0 = F[0] * we.dx + F[1] * we.dy, c1 = F[2] * we.dx + F[3] * we.dy;
     const double len = std::sqrt(c0 * c0 + c1 * c1);
     inv_len[e] = 1.0 / len;
     S += len;
-    sum_m += CGMS::Shaped::contour_length(len, rest[e], smooth_eps * rest[e], contour, m1[e]);
-    wall += CGMS::Shaped::wall_energy(len, rest[e], EA, buckle, soft, de[e]);
+    sum_m += CGMS::Shaped::contour_length(len, we.rest, we.delta, contour, m1[e]);
+    wall += CGMS::Shaped::wall_energy_k(len, we.rest, we.k, we.lb, buckle, soft, de[e]);
   }
   const double A_f = fluid_area0[i];
   const double P_T = dryness * mat.P_f;
@@ -616,7 +640,7 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
   for (int e = 0; e < nw; e++) {
     const double c = (c_S + c_m * m1[e] + de[e]) * inv_len[e];
-    const double dx = d0x[e], dy = d0y[e];
+    const double dx = walls_i[e].dx, dy = walls_i[e].dy;
     Mxx += c * dx * dx;
     Mxy += c * dx * dy;
     Myy += c * dy * dy;
@@ -631,64 +655,100 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
 }
 
 /* ----------------------------------------------------------------------
-   bead i's fresh bonds, each in full: k_g/2 |m|^2 with m = x_k - x_i - f (G(F_i) + G(F_k))
-   d0_ik / 2, f = beta(s) on rim bonds (both beads on the boundary); the energy is halved
-   (bead k's owner evaluates the same bond), the force k_g m goes to bead i alone and
-   k_g m dm/dF_i into dEdF. dm_c/dF_i = -f/2 sum_n dG[2c + n] d0_n, so the bonds' sum
-   of f/2 m_c d0_n is gathered first and contracted with dG once.
+   the fresh bonds bead i evaluates: k_g/2 |m|^2 with m = x_k - x_i - f (G(F_i) + G(F_k))
+   d0_ik / 2, f = beta(s) on rim bonds (both beads on the boundary). A paired bond (both
+   beads local) counts in full, its sums go to both beads (bead k's m and d0 are bead i's
+   negated, so its m (x) d0 is the same); a bond to a ghost counts half (the ghost's owner
+   evaluates the other half) and its sums go to bead i alone. Per bead, bond_sums gathers
+   sum m (the force is k_g times it) and sum f/2 m (x) d0 (contracted with dG once per bead
+   in bond_forces: dm_c/dF_i = -f/2 sum_n dG[2c + n] d0_n). Returns the bonds' energy.
 ------------------------------------------------------------------------- */
 
-double PairCGMSShaped::bond_terms(int i, double *dEdF)
+double PairCGMSShaped::bond_terms(int i)
 {
   double **x = atom->x;
-  double **f = atom->f;
-  const double *d0x = atom->darray[ibondx][i], *d0y = atom->darray[ibondy][i];
-  const int *jb = &bond_j[(size_t) i * nb_max];
-  const double *half_f = &bond_half_f[(size_t) i * nb_max];
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
-  const double *G = target + 4 * i;
+  const double G0 = target[4 * i], G1 = target[4 * i + 1], G2 = target[4 * i + 2],
+               G3 = target[4 * i + 3];
   const double xi = x[i][0], yi = x[i][1];
+  double *sums = bond_sums.data();
 
-  // sums over the bonds: |m|^2, m, and f/2 (m0 dx, m0 dy, m1 dx, m1 dy); k_g once at the end
-  double msq = 0.0, mx = 0.0, my = 0.0;
-  double md[4] = {0.0, 0.0, 0.0, 0.0};
-  for (int b = 0; b < nb_max; b++) {
-    const int j = jb[b];
-    if (j < 0) continue;
-    const double dx = d0x[b], dy = d0y[b];
-    const double hf = half_f[b];
+  // bead i's sums in registers: |m|^2 (paired bonds twice), m, f/2 m (x) d0
+  double msq = 0.0, mx = 0.0, my = 0.0, md0 = 0.0, md1 = 0.0, md2 = 0.0, md3 = 0.0;
+  for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
+    const Bond &bond = bonds[b];
+    const int j = bond.j;
+    const double hdx = bond.hdx, hdy = bond.hdy;
     const double *Gj = target + 4 * j;
-    const double t0 = (G[0] + Gj[0]) * dx + (G[1] + Gj[1]) * dy;
-    const double t1 = (G[2] + Gj[2]) * dx + (G[3] + Gj[3]) * dy;
-    const double m0 = x[j][0] - xi - hf * t0;
-    const double m1 = x[j][1] - yi - hf * t1;
-    msq += m0 * m0 + m1 * m1;
+    const double m0 = x[j][0] - xi - ((G0 + Gj[0]) * hdx + (G1 + Gj[1]) * hdy);
+    const double m1 = x[j][1] - yi - ((G2 + Gj[2]) * hdx + (G3 + Gj[3]) * hdy);
+    const double sq = m0 * m0 + m1 * m1;
+    const double a0 = m0 * hdx, a1 = m0 * hdy, a2 = m1 * hdx, a3 = m1 * hdy;
+    msq += sq;
     mx += m0;
     my += m1;
-    const double a0 = hf * m0, a1 = hf * m1;
-    md[0] += a0 * dx;
-    md[1] += a0 * dy;
-    md[2] += a1 * dx;
-    md[3] += a1 * dy;
+    md0 += a0;
+    md1 += a1;
+    md2 += a2;
+    md3 += a3;
+    if (bond.paired) {
+      double *sj = sums + 6 * j;
+      sj[0] -= m0;
+      sj[1] -= m1;
+      sj[2] += a0;
+      sj[3] += a1;
+      sj[4] += a2;
+      sj[5] += a3;
+      msq += sq;
+      if (eflag_atom) eatom[j] += 0.25 * k_g * sq;
+    }
     if (vflag_either) {
-      // half the bond's virial r_ik (x) f_i, the other half from bead k's owner
+      // the bond's virial r_ik (x) f_i: a paired bond's in full, half it to each bead; a
+      // ghost bond's half, the other half from bead k's owner
       const double fx = k_g * m0, fy = k_g * m1;
       const double delx = xi - x[j][0], dely = yi - x[j][1];
       const double v[6] = {0.5 * delx * fx, 0.5 * dely * fy, 0.0, 0.5 * delx * fy, 0.0, 0.0};
       for (int n = 0; n < 6; n++) {
-        if (vflag_global) virial[n] += v[n];
-        if (vflag_atom) vatom[i][n] += v[n];
+        if (vflag_global) virial[n] += bond.paired ? 2.0 * v[n] : v[n];
+        if (vflag_atom) {
+          vatom[i][n] += (bond.paired ? 0.5 : 1.0) * v[n];
+          if (bond.paired) vatom[j][n] += 0.5 * v[n];
+        }
       }
     }
   }
+  double *si = sums + 6 * i;
+  si[0] += mx;
+  si[1] += my;
+  si[2] += md0;
+  si[3] += md1;
+  si[4] += md2;
+  si[5] += md3;
   const double energy = 0.25 * k_g * msq;
   if (eflag_atom) eatom[i] += energy;
-  f[i][0] += k_g * mx;
-  f[i][1] += k_g * my;
-  double dm[4];
-  CGMS::Shaped::bond_target_pullback(atom->darray[iF][i], par.iso, md, dm);
-  for (int k = 0; k < 4; k++) dEdF[k] -= k_g * dm[k];
   return energy;
+}
+
+/* ----------------------------------------------------------------------
+   every local bead's bond force k_g sum m and its bonds' dE/dF, -k_g (sum f/2 m (x) d0)
+   : dG(F_i), added to its cell's dE/dF in fF; fF then holds -dE/dF
+------------------------------------------------------------------------- */
+
+void PairCGMSShaped::bond_forces()
+{
+  double **f = atom->f;
+  double **F = atom->darray[iF];
+  double **fF = atom->darray[iforce];
+  const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
+  const double *sums = bond_sums.data();
+  for (int i = 0; i < atom->nlocal; i++) {
+    const double *si = sums + 6 * i;
+    f[i][0] += k_g * si[0];
+    f[i][1] += k_g * si[1];
+    double dm[4];
+    CGMS::Shaped::bond_target_pullback(F[i], par.iso, si + 2, dm);
+    for (int k = 0; k < 4; k++) fF[i][k] = -(fF[i][k] - k_g * dm[k]);
+  }
 }
 
 /* ----------------------------------------------------------------------
@@ -784,17 +844,22 @@ void PairCGMSShaped::compute(int eflag, int vflag)
     if (!CGMS::Shaped::bond_target(F[i], par.iso, target + 4 * i)) bad = 1;
   const int targets_valid = !bad;
 
+  // fF holds the cells' dE/dF until bond_forces makes it -dE/dF
   double **fF = atom->darray[iforce];
   double energy = 0.0;
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
-    double dEdF[4];
-    double e = cell_term(i, dEdF, bad);
+    const double e = cell_term(i, fF[i], bad);
     if (eflag_atom) eatom[i] += e;
-    if (targets_valid) e += bond_terms(i, dEdF);
     energy += e;
-    for (int k = 0; k < 4; k++) fF[i][k] = -dEdF[k];
   }
+  if (targets_valid) {
+    std::fill(bond_sums.begin(), bond_sums.end(), 0.0);
+    for (int i = 0; i < nlocal; i++) energy += bond_terms(i);
+    bond_forces();
+  } else
+    for (int i = 0; i < nlocal; i++)
+      for (int k = 0; k < 4; k++) fF[i][k] = -fF[i][k];
   lj_terms();
   if (bad && update->setupflag) refuse_inverted();
   if (!bad) refuse_nonfinite(energy);
@@ -824,7 +889,8 @@ void PairCGMSShaped::refuse_nonfinite(double energy)
   if (!finite)
     error->one(FLERR,
                "Pair style cgms/shaped: the energy or the force {} is not finite (or so large "
-               "that the minimiser's force norm overflows) in a state of finite F: a keyword (wall_EA, soft, beta_a, beta_b, kg_ratio, "
+               "that the minimiser's force norm overflows) in a state of finite F: a keyword "
+               "(wall_EA, soft, beta_a, beta_b, kg_ratio, "
                "smooth) or material value is far outside its physical range; give values of "
                "the order of the defaults (doc/pair_cgms_shaped.rst)",
                who ? fmt::format("on bead {}", who) : std::string("sum"));
@@ -892,10 +958,9 @@ static constexpr int SHAPED_NUMBERS = 13;
 void PairCGMSShaped::write_restart_settings(FILE *fp)
 {
   const int header[2] = {SHAPED_RECORD_TAG, SHAPED_RECORD_VERSION};
-  const double v[SHAPED_NUMBERS] = {dryness,      reach,        par.wall_EA,    par.buckle,
-                                    par.soft,     par.beta_a,   par.beta_b,     par.lamella,
-                                    par.kg_ratio, par.void_frac, par.void_onset, par.smooth,
-                                    par.iso};
+  const double v[SHAPED_NUMBERS] = {
+      dryness,     reach,        par.wall_EA,   par.buckle,     par.soft,   par.beta_a, par.beta_b,
+      par.lamella, par.kg_ratio, par.void_frac, par.void_onset, par.smooth, par.iso};
   fwrite(header, sizeof(int), 2, fp);
   fwrite(v, sizeof(double), SHAPED_NUMBERS, fp);
   fwrite(&par.contour, sizeof(int), 1, fp);
@@ -1005,9 +1070,10 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 double PairCGMSShaped::memory_usage()
 {
   const double caches =
-      (double) (wall_rest.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
-                fluid_area0.capacity() + bond_half_f.capacity()) *
+      (double) (6 * walls.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
+                fluid_area0.capacity() + bond_sums.capacity()) *
           sizeof(double) +
-      (double) (bond_j.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
+      (double) bonds.capacity() * sizeof(Bond) +
+      (double) (bond_first.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
   return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double) + caches;
 }

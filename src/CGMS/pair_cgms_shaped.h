@@ -63,18 +63,33 @@ class PairCGMSShaped : public Pair {
 
   // indices of the per-atom custom properties (Atom::find_custom)
   int iF, inb, ibondx, ibondy, iwallx, iwally, iid, inwall, iarea, iboundary, iforce;
-  int nb_max, wall_max;    // columns of the neighbour and wall arrays
-  bool lists_asymmetric;   // init found a bond listed by one bead only
+  int nb_max, wall_max;     // columns of the neighbour and wall arrays
+  bool lists_asymmetric;    // init found a bond listed by one bead only
 
   double *target;    // G(F) of every local and ghost bead (4 per bead)
   int nmax_target;
   double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
   int nmax_min;
   // fixed per-bead data, in the local order of the current neighbour list (cache_fresh_data,
-  // at every new list): per wall its rest length; per bead its rest-length sum and fresh
-  // fluid area; per fresh bond the closest image of the neighbour (-1: none) and f / 2
-  std::vector<double> wall_rest, rest_sum, fluid_area0, bond_half_f;
-  std::vector<int> bond_j;
+  // at every new list): per wall its fresh vector, rest length, stiffness, buckling length
+  // and contour smoothing; per bead its rest-length sum and fresh fluid area; per fresh
+  // bond that this bead evaluates (bonds[bond_first[i] .. bond_first[i + 1]]) the closest
+  // image j of the neighbour, f/2 d0, and whether j is local and evaluates the bond with
+  // bead i as its own closest image (paired: evaluated once, by the lower index, for both)
+  struct Wall {
+    double dx, dy, rest, k, lb, delta;
+  };
+  struct Bond {
+    int j, paired;
+    double hdx, hdy;
+  };
+  std::vector<Wall> walls;
+  std::vector<double> rest_sum, fluid_area0;
+  std::vector<Bond> bonds;
+  std::vector<int> bond_first;
+  // per local bead, summed over its bonds: m and f/2 m (x) d0 (row-major), for its force and
+  // its bonds' dE/dF
+  std::vector<double> bond_sums;
   std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
   std::vector<double> wall_scratch;       // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
   int cache_current;                      // 0 after init_style: rebuild before the next evaluation
@@ -92,7 +107,9 @@ class PairCGMSShaped : public Pair {
   void check_topology();
   void cache_fresh_data();
   double cell_term(int i, double *dEdF, int &bad);
-  double bond_terms(int i, double *dEdF);
+  void cache_bonds();
+  double bond_terms(int i);
+  void bond_forces();
   void lj_terms();
   void exclude_fresh_pairs();
 };
