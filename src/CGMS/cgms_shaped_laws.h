@@ -87,10 +87,15 @@ namespace CGMS {
         return l;
       }
       const double t = l - r;
-      const double u = (t + delta) / (2.0 * delta);
-      m1 = u < 0.0 ? 0.0 : (u > 1.0 ? 1.0 : u);
-      if (t >= delta) return l;
-      if (t <= -delta) return r;
+      if (t >= delta) {
+        m1 = 1.0;
+        return l;
+      }
+      if (t <= -delta) {
+        m1 = 0.0;
+        return r;
+      }
+      m1 = (t + delta) / (2.0 * delta);
       return r + (t + delta) * (t + delta) / (4.0 * delta);
     }
 
@@ -145,8 +150,11 @@ namespace CGMS {
     // iso > 0 (bond_target true).
     inline void bond_target_pullback(const double *F, double iso, const double *v, double *out)
     {
-      for (int k = 0; k < 4; k++) out[k] = (1.0 - iso) * v[k];
-      if (iso == 0.0) return;
+      const double keep = 1.0 - iso;
+      if (iso == 0.0) {
+        for (int k = 0; k < 4; k++) out[k] = keep * v[k];
+        return;
+      }
       const double a = F[0], b = F[1], c = F[2], d = F[3];
       const double J = a * d - b * c;
       const double p = a + d, q = c - b;
@@ -154,12 +162,15 @@ namespace CGMS {
       const double phi = std::sqrt(J) / std::sqrt(r2);
       const double vM = v[0] * p - v[1] * q + v[2] * q + v[3] * p;
       const double vp = v[0] + v[3], vq = v[2] - v[1];    // v . dM/dp and v . dM/dq
-      const double gJ[4] = {d, -c, -b, a};
-      const double DP[4] = {1.0, 0.0, 0.0, 1.0}, DQ[4] = {0.0, -1.0, 1.0, 0.0};
-      for (int k = 0; k < 4; k++) {
-        const double gphi = phi * (gJ[k] / (2.0 * J) - (p * DP[k] + q * DQ[k]) / r2);
-        out[k] += iso * (vM * gphi + phi * (vp * DP[k] + vq * DQ[k]));
-      }
+      // iso (vM dphi/dF + phi (vp dp/dF + vq dq/dF)), dphi/dF = phi (cof(F) / (2 J) - (p
+      // dp/dF + q dq/dF) / r^2), cof(F) = (d, -c, -b, a), written out per component
+      const double isophi = iso * phi;
+      const double gJ = isophi * vM / (2.0 * J), gr = isophi * vM / r2;
+      const double P = isophi * vp - gr * p, Q = isophi * vq - gr * q;
+      out[0] = keep * v[0] + gJ * d + P;
+      out[1] = keep * v[1] - gJ * c - Q;
+      out[2] = keep * v[2] - gJ * b + Q;
+      out[3] = keep * v[3] + gJ * a + P;
     }
 
   }    // namespace Shaped

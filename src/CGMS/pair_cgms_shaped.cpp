@@ -544,7 +544,8 @@ void PairCGMSShaped::cache_fresh_data()
       L0 += chord0;
       const double rest = chord0 / (1.0 + eps) * contraction;
       const double k = par.wall_EA / rest;
-      wall[e] = {dx, dy, rest, k, rest - par.buckle / k, par.smooth * eps * rest};
+      wall[e] = {
+          dx * dx, dx * dy, dy * dy, rest, k, rest - par.buckle / k, par.smooth * eps * rest};
       R += rest;
     }
     rest_sum[i] = R;
@@ -609,11 +610,13 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   const double buckle = par.buckle, soft = par.soft;
   const int contour = par.contour;
 
+  // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice)
+  const double C11 = F[0] * F[0] + F[2] * F[2], C22 = F[1] * F[1] + F[3] * F[3];
+  const double C12x2 = 2.0 * (F[0] * F[1] + F[2] * F[3]);
   double S = 0.0, sum_m = 0.0, wall = 0.0;
   for (int e = 0; e < nw; e++) {
     const Wall &we = walls_i[e];
-    const double c0 = F[0] * we.dx + F[1] * we.dy, c1 = F[2] * we.dx + F[3] * we.dy;
-    const double len = std::sqrt(c0 * c0 + c1 * c1);
+    const double len = std::sqrt(C11 * we.dxx + C12x2 * we.dxy + C22 * we.dyy);
     inv_len[e] = 1.0 / len;
     S += len;
     sum_m += CGMS::Shaped::contour_length(len, we.rest, we.delta, contour, m1[e]);
@@ -640,10 +643,9 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
   for (int e = 0; e < nw; e++) {
     const double c = (c_S + c_m * m1[e] + de[e]) * inv_len[e];
-    const double dx = walls_i[e].dx, dy = walls_i[e].dy;
-    Mxx += c * dx * dx;
-    Mxy += c * dx * dy;
-    Myy += c * dy * dy;
+    Mxx += c * walls_i[e].dxx;
+    Mxy += c * walls_i[e].dxy;
+    Myy += c * walls_i[e].dyy;
   }
   // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
   const double fD = f1 * area0 * (1.0 - par.void_frac * psi);
@@ -879,11 +881,16 @@ void PairCGMSShaped::refuse_nonfinite(double energy)
   double **f = atom->f;
   double **fF = atom->darray[iforce];
   const double limit = std::sqrt(DBL_MAX / (6.0 * std::max(atom->natoms, (bigint) 1)));
+  // dof_scale is a power of two: |fF / dof_scale| < limit is |fF| < limit dof_scale exactly
+  const double limit_F = limit * dof_scale;
   bool finite = std::isfinite(energy);
   tagint who = 0;
   for (int i = 0; i < atom->nlocal && finite; i++) {
-    finite = std::fabs(f[i][0]) < limit && std::fabs(f[i][1]) < limit;
-    for (int k = 0; k < 4; k++) finite = finite && std::fabs(fF[i][k] / dof_scale) < limit;
+    const double *fi = f[i], *fFi = fF[i];
+    // & (not &&): six comparisons without a branch each
+    finite = (std::fabs(fi[0]) < limit) & (std::fabs(fi[1]) < limit) &
+        (std::fabs(fFi[0]) < limit_F) & (std::fabs(fFi[1]) < limit_F) &
+        (std::fabs(fFi[2]) < limit_F) & (std::fabs(fFi[3]) < limit_F);
     if (!finite) who = atom->tag[i];
   }
   if (!finite)
@@ -1070,7 +1077,7 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 double PairCGMSShaped::memory_usage()
 {
   const double caches =
-      (double) (6 * walls.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
+      (double) (7 * walls.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
                 fluid_area0.capacity() + bond_sums.capacity()) *
           sizeof(double) +
       (double) bonds.capacity() * sizeof(Bond) +
