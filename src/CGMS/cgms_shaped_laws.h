@@ -56,25 +56,29 @@ namespace CGMS {
 
     // one wall of chord l and rest length r: EA/(2r) (l - r)^2 while stretched or
     // mildly compressed; shorter than r - buckle r / EA it buckles and pushes with buckle
-    // plus soft EA/r times the further shortening (shaped.wall_energy); de = dE/dl
-    // the same with the wall's stiffness k = EA / r and buckling length lb = r - buckle / k
-    // given (fixed per wall: pair cgms/shaped keeps them per neighbour list)
-    inline double wall_energy_k(double l, double r, double k, double lb, double buckle, double soft,
-                                double &de)
-    {
-      if (l >= lb) {
-        de = k * (l - r);
-        return 0.5 * k * (l - r) * (l - r);
-      }
-      const double shortening = lb - l;
-      de = -buckle - soft * k * shortening;
-      return 0.5 * buckle * buckle / k + buckle * shortening +
-          0.5 * soft * k * shortening * shortening;
-    }
-    inline double wall_energy(double l, double r, double EA, double buckle, double soft, double &de)
+    // plus soft EA/r times the further shortening (shaped.wall_energy); de = dE/dl. The
+    // law's constants of one wall (WallLaw, from wall_law) are fixed: pair cgms/shaped
+    // keeps them per neighbour list
+    struct WallLaw {
+      double r, k, half_k;    // rest length, stiffness EA / r, k / 2
+      double lb;              // buckling length r - buckle / k
+      double e_b;             // the energy at lb, buckle^2 / (2 k)
+      double soft_k, half_soft_k;
+    };
+    inline WallLaw wall_law(double r, double EA, double buckle, double soft)
     {
       const double k = EA / r;
-      return wall_energy_k(l, r, k, r - buckle / k, buckle, soft, de);
+      return {r, k, 0.5 * k, r - buckle / k, 0.5 * buckle * buckle / k, soft * k, 0.5 * soft * k};
+    }
+    inline double wall_energy(double l, const WallLaw &w, double buckle, double &de)
+    {
+      if (l >= w.lb) {
+        de = w.k * (l - w.r);
+        return w.half_k * (l - w.r) * (l - w.r);
+      }
+      const double shortening = w.lb - l;
+      de = -buckle - w.soft_k * shortening;
+      return w.e_b + buckle * shortening + w.half_soft_k * shortening * shortening;
     }
 
     // a wall's length along its folds (the strip's length): the chord, or with contour

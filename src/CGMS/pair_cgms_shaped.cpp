@@ -543,9 +543,8 @@ void PairCGMSShaped::cache_fresh_data()
       const double chord0 = std::sqrt(dx * dx + dy * dy);
       L0 += chord0;
       const double rest = chord0 / (1.0 + eps) * contraction;
-      const double k = par.wall_EA / rest;
-      wall[e] = {
-          dx * dx, dx * dy, dy * dy, rest, k, rest - par.buckle / k, par.smooth * eps * rest};
+      wall[e] = {dx * dx, dx * dy, dy * dy, par.smooth * eps * rest,
+                 CGMS::Shaped::wall_law(rest, par.wall_EA, par.buckle, par.soft)};
       R += rest;
     }
     rest_sum[i] = R;
@@ -607,7 +606,7 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   const double area0 = atom->dvector[iarea][i];
   double *inv_len = wall_scratch.data(), *m1 = inv_len + wall_max, *de = m1 + wall_max;
   const double w = par.lamella * mat.pectin;
-  const double buckle = par.buckle, soft = par.soft;
+  const double buckle = par.buckle;
   const int contour = par.contour;
 
   // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice)
@@ -619,8 +618,8 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
     const double len = std::sqrt(C11 * we.dxx + C12x2 * we.dxy + C22 * we.dyy);
     inv_len[e] = 1.0 / len;
     S += len;
-    sum_m += CGMS::Shaped::contour_length(len, we.rest, we.delta, contour, m1[e]);
-    wall += CGMS::Shaped::wall_energy_k(len, we.rest, we.k, we.lb, buckle, soft, de[e]);
+    sum_m += CGMS::Shaped::contour_length(len, we.law.r, we.delta, contour, m1[e]);
+    wall += CGMS::Shaped::wall_energy(len, we.law, buckle, de[e]);
   }
   const double A_f = fluid_area0[i];
   const double P_T = dryness * mat.P_f;
@@ -1077,7 +1076,7 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 double PairCGMSShaped::memory_usage()
 {
   const double caches =
-      (double) (7 * walls.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
+      (double) (sizeof(Wall) / sizeof(double) * walls.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
                 fluid_area0.capacity() + bond_sums.capacity()) *
           sizeof(double) +
       (double) bonds.capacity() * sizeof(Bond) +

@@ -71,14 +71,15 @@ class PairCGMSShaped : public Pair {
   double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
   int nmax_min;
   // fixed per-bead data, in the local order of the current neighbour list (cache_fresh_data,
-  // at every new list): per wall its fresh vector's d0 d0^T, rest length, stiffness, buckling length
-  // and contour smoothing; per bead its rest-length sum and fresh fluid area; per fresh
+  // at every new list): per wall its fresh vector's d0 d0^T, the contour's smoothing and the
+  // wall law's constants; per bead its rest-length sum and fresh fluid area; per fresh
   // bond that this bead evaluates (bonds[bond_first[i] .. bond_first[i + 1]]) the closest
   // image j of the neighbour, f/2 d0, and whether j is local and evaluates the bond with
   // bead i as its own closest image (paired: evaluated once, by the lower index, for both)
   struct Wall {
     double dxx, dxy, dyy;    // d0 d0^T: l^2 = d0^T (F^T F) d0
-    double rest, k, lb, delta;
+    double delta;            // the contour's smoothing half-width
+    CGMS::Shaped::WallLaw law;
   };
   struct Bond {
     int j, paired;
