@@ -754,13 +754,20 @@ void PairCGMSShaped::bond_forces()
 
 /* ----------------------------------------------------------------------
    the pairs of the neighbour list that were not fresh neighbours (the LJ repulsion's),
-   gathered once per neighbour list: (i, j) as pair_j[pair_first[ii] ..]
+   gathered once per neighbour list: (i, j) as pair_j[pair_first[ii] ..]. Only pairs
+   closer than the LJ radius plus twice the skin: until the next list each bead moves
+   less than half the skin from where the list was built, and less than the skin from
+   where it is now (the cache is also rebuilt after init_style, between two lists), so a
+   pair beyond that cannot come inside the radius before the next list
 ------------------------------------------------------------------------- */
 
 void PairCGMSShaped::exclude_fresh_pairs()
 {
   const tagint *tag = atom->tag;
+  double **x = atom->x;
   int **nbs = atom->iarray[inb];
+  const double reach_lj = mat.lj_radius(dryness) + 2.0 * neighbor->skin;
+  const double reach_lj_sq = reach_lj * reach_lj;
   pair_first.resize(list->inum + 1);
   pair_j.clear();
   for (int ii = 0; ii < list->inum; ii++) {
@@ -770,6 +777,8 @@ void PairCGMSShaped::exclude_fresh_pairs()
     pair_first[ii] = (int) pair_j.size();
     for (int jj = 0; jj < list->numneigh[i]; jj++) {
       const int j = jlist[jj] & NEIGHMASK;
+      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1];
+      if (dx * dx + dy * dy >= reach_lj_sq) continue;
       bool fresh = false;
       for (int b = 0; b < nb_max; b++)
         if (nb[b] == tag[j]) fresh = true;
@@ -1076,8 +1085,8 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 double PairCGMSShaped::memory_usage()
 {
   const double caches =
-      (double) (sizeof(Wall) / sizeof(double) * walls.capacity() + wall_scratch.capacity() + rest_sum.capacity() +
-                fluid_area0.capacity() + bond_sums.capacity()) *
+      (double) (sizeof(Wall) / sizeof(double) * walls.capacity() + wall_scratch.capacity() +
+                rest_sum.capacity() + fluid_area0.capacity() + bond_sums.capacity()) *
           sizeof(double) +
       (double) bonds.capacity() * sizeof(Bond) +
       (double) (bond_first.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
