@@ -665,91 +665,118 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
    in bond_forces: dm_c/dF_i = -f/2 sum_n dG[2c + n] d0_n). Returns the bonds' energy.
 ------------------------------------------------------------------------- */
 
-double PairCGMSShaped::bond_terms(int i)
+double PairCGMSShaped::bond_terms()
 {
   double **x = atom->x;
+  const int nlocal = atom->nlocal;
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
-  const double G0 = target[4 * i], G1 = target[4 * i + 1], G2 = target[4 * i + 2],
-               G3 = target[4 * i + 3];
-  const double xi = x[i][0], yi = x[i][1];
+  const Bond *bond_list = bonds.data();
+  const int *first = bond_first.data();
   double *sums = bond_sums.data();
-
-  // bead i's sums in registers: |m|^2 (paired bonds twice), m, f/2 m (x) d0
-  double msq = 0.0, mx = 0.0, my = 0.0, md0 = 0.0, md1 = 0.0, md2 = 0.0, md3 = 0.0;
-  for (int b = bond_first[i]; b < bond_first[i + 1]; b++) {
-    const Bond &bond = bonds[b];
-    const int j = bond.j;
-    const double hdx = bond.hdx, hdy = bond.hdy;
-    const double *Gj = target + 4 * j;
-    const double m0 = x[j][0] - xi - ((G0 + Gj[0]) * hdx + (G1 + Gj[1]) * hdy);
-    const double m1 = x[j][1] - yi - ((G2 + Gj[2]) * hdx + (G3 + Gj[3]) * hdy);
-    const double sq = m0 * m0 + m1 * m1;
-    const double a0 = m0 * hdx, a1 = m0 * hdy, a2 = m1 * hdx, a3 = m1 * hdy;
-    msq += sq;
-    mx += m0;
-    my += m1;
-    md0 += a0;
-    md1 += a1;
-    md2 += a2;
-    md3 += a3;
-    if (bond.paired) {
-      double *sj = sums + 6 * j;
-      sj[0] -= m0;
-      sj[1] -= m1;
-      sj[2] += a0;
-      sj[3] += a1;
-      sj[4] += a2;
-      sj[5] += a3;
+  std::fill(bond_sums.begin(), bond_sums.end(), 0.0);
+  double energy = 0.0;
+  for (int i = 0; i < nlocal; i++) {
+    const double G0 = target[4 * i], G1 = target[4 * i + 1], G2 = target[4 * i + 2],
+                 G3 = target[4 * i + 3];
+    const double xi = x[i][0], yi = x[i][1];
+    // bead i's sums in registers: |m|^2 (paired bonds twice), m, f/2 m (x) d0
+    double msq = 0.0, mx = 0.0, my = 0.0, md0 = 0.0, md1 = 0.0, md2 = 0.0, md3 = 0.0;
+    for (int b = first[i]; b < first[i + 1]; b++) {
+      const Bond &bond = bond_list[b];
+      const int j = bond.j;
+      const double hdx = bond.hdx, hdy = bond.hdy;
+      const double *Gj = target + 4 * j;
+      const double m0 = x[j][0] - xi - ((G0 + Gj[0]) * hdx + (G1 + Gj[1]) * hdy);
+      const double m1 = x[j][1] - yi - ((G2 + Gj[2]) * hdx + (G3 + Gj[3]) * hdy);
+      const double sq = m0 * m0 + m1 * m1;
+      const double a0 = m0 * hdx, a1 = m0 * hdy, a2 = m1 * hdx, a3 = m1 * hdy;
       msq += sq;
-      if (eflag_atom) eatom[j] += 0.25 * k_g * sq;
-    }
-    if (vflag_either) {
-      // the bond's virial r_ik (x) f_i: a paired bond's in full, half it to each bead; a
-      // ghost bond's half, the other half from bead k's owner
-      const double fx = k_g * m0, fy = k_g * m1;
-      const double delx = xi - x[j][0], dely = yi - x[j][1];
-      const double v[6] = {0.5 * delx * fx, 0.5 * dely * fy, 0.0, 0.5 * delx * fy, 0.0, 0.0};
-      for (int n = 0; n < 6; n++) {
-        if (vflag_global) virial[n] += bond.paired ? 2.0 * v[n] : v[n];
-        if (vflag_atom) {
-          vatom[i][n] += (bond.paired ? 0.5 : 1.0) * v[n];
-          if (bond.paired) vatom[j][n] += 0.5 * v[n];
-        }
+      mx += m0;
+      my += m1;
+      md0 += a0;
+      md1 += a1;
+      md2 += a2;
+      md3 += a3;
+      if (bond.paired) {
+        double *sj = sums + 6 * j;
+        sj[0] -= m0;
+        sj[1] -= m1;
+        sj[2] += a0;
+        sj[3] += a1;
+        sj[4] += a2;
+        sj[5] += a3;
+        msq += sq;
+        if (eflag_atom) eatom[j] += 0.25 * k_g * sq;
       }
+      if (vflag_either) bond_virial(i, j, bond.paired, k_g * m0, k_g * m1);
     }
+    double *si = sums + 6 * i;
+    si[0] += mx;
+    si[1] += my;
+    si[2] += md0;
+    si[3] += md1;
+    si[4] += md2;
+    si[5] += md3;
+    const double e = 0.25 * k_g * msq;
+    if (eflag_atom) eatom[i] += e;
+    energy += e;
   }
-  double *si = sums + 6 * i;
-  si[0] += mx;
-  si[1] += my;
-  si[2] += md0;
-  si[3] += md1;
-  si[4] += md2;
-  si[5] += md3;
-  const double energy = 0.25 * k_g * msq;
-  if (eflag_atom) eatom[i] += energy;
   return energy;
 }
 
 /* ----------------------------------------------------------------------
-   every local bead's bond force k_g sum m and its bonds' dE/dF, -k_g (sum f/2 m (x) d0)
-   : dG(F_i), added to its cell's dE/dF in fF; fF then holds -dE/dF
+   the virial r_ik (x) f_i of a bond with force (fx, fy) on bead i: a paired bond's in full,
+   half of it to each bead; a ghost bond's half, the other half from bead k's owner
 ------------------------------------------------------------------------- */
 
-void PairCGMSShaped::bond_forces()
+void PairCGMSShaped::bond_virial(int i, int j, int paired, double fx, double fy)
+{
+  double **x = atom->x;
+  const double delx = x[i][0] - x[j][0], dely = x[i][1] - x[j][1];
+  const double v[6] = {0.5 * delx * fx, 0.5 * dely * fy, 0.0, 0.5 * delx * fy, 0.0, 0.0};
+  for (int n = 0; n < 6; n++) {
+    if (vflag_global) virial[n] += paired ? 2.0 * v[n] : v[n];
+    if (vflag_atom) {
+      vatom[i][n] += (paired ? 0.5 : 1.0) * v[n];
+      if (paired) vatom[j][n] += 0.5 * v[n];
+    }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   every local bead's bond force k_g sum m and its bonds' dE/dF, -k_g (sum f/2 m (x) d0)
+   : dG(F_i), added to its cell's dE/dF in fF; fF then holds -dE/dF. Returns the first
+   local bead whose force or -dE/dF is not finite or too large for the minimiser (-1: none;
+   the LJ forces are in f already)
+------------------------------------------------------------------------- */
+
+int PairCGMSShaped::bond_forces()
 {
   double **f = atom->f;
   double **F = atom->darray[iF];
   double **fF = atom->darray[iforce];
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
   const double *sums = bond_sums.data();
+  // the largest force the minimiser's norm holds (a sum of 6 squares per bead); dof_scale
+  // is a power of two: |fF / dof_scale| < limit is |fF| < limit dof_scale exactly
+  const double limit = std::sqrt(DBL_MAX / (6.0 * std::max(atom->natoms, (bigint) 1)));
+  const double limit_F = limit * dof_scale;
+  int first_bad = -1;
   for (int i = 0; i < atom->nlocal; i++) {
     const double *si = sums + 6 * i;
-    f[i][0] += k_g * si[0];
-    f[i][1] += k_g * si[1];
+    double *fi = f[i], *fFi = fF[i];
+    fi[0] += k_g * si[0];
+    fi[1] += k_g * si[1];
     double dm[4];
     CGMS::Shaped::bond_target_pullback(F[i], par.iso, si + 2, dm);
-    for (int k = 0; k < 4; k++) fF[i][k] = -(fF[i][k] - k_g * dm[k]);
+    for (int k = 0; k < 4; k++) fFi[k] = -(fFi[k] - k_g * dm[k]);
+    // & (not &&): six comparisons without a branch each
+    const bool finite = (std::fabs(fi[0]) < limit) & (std::fabs(fi[1]) < limit) &
+        (std::fabs(fFi[0]) < limit_F) & (std::fabs(fFi[1]) < limit_F) &
+        (std::fabs(fFi[2]) < limit_F) & (std::fabs(fFi[3]) < limit_F);
+    if (!finite && first_bad < 0) first_bad = i;
   }
+  return first_bad;
 }
 
 /* ----------------------------------------------------------------------
@@ -863,16 +890,16 @@ void PairCGMSShaped::compute(int eflag, int vflag)
     if (eflag_atom) eatom[i] += e;
     energy += e;
   }
+  lj_terms();
+  int nonfinite = -1;
   if (targets_valid) {
-    std::fill(bond_sums.begin(), bond_sums.end(), 0.0);
-    for (int i = 0; i < nlocal; i++) energy += bond_terms(i);
-    bond_forces();
+    energy += bond_terms();
+    nonfinite = bond_forces();
   } else
     for (int i = 0; i < nlocal; i++)
       for (int k = 0; k < 4; k++) fF[i][k] = -fF[i][k];
-  lj_terms();
   if (bad && update->setupflag) refuse_inverted();
-  if (!bad) refuse_nonfinite(energy);
+  if (!bad && (nonfinite >= 0 || !std::isfinite(energy))) refuse_nonfinite(nonfinite);
   // a cell turned inside out (fluid area or det F not positive) has infinite energy: a
   // line search steps back from it
   if (eflag_global) eng_vdwl += bad ? HUGE_VAL : energy;
@@ -881,34 +908,20 @@ void PairCGMSShaped::compute(int eflag, int vflag)
 /* ----------------------------------------------------------------------
    a finite state with a non-finite energy or force: a keyword or material value so far
    out of range that the energy overflows, or a force whose square overflows the
-   minimiser's force norm (a sum of 6 squares per bead); stop before it moves on NaN
+   minimiser's force norm (a sum of 6 squares per bead); stop before it moves on NaN; i is the
+   first local bead bond_forces found (-1: the energy sum)
 ------------------------------------------------------------------------- */
 
-void PairCGMSShaped::refuse_nonfinite(double energy)
+void PairCGMSShaped::refuse_nonfinite(int i)
 {
-  double **f = atom->f;
-  double **fF = atom->darray[iforce];
-  const double limit = std::sqrt(DBL_MAX / (6.0 * std::max(atom->natoms, (bigint) 1)));
-  // dof_scale is a power of two: |fF / dof_scale| < limit is |fF| < limit dof_scale exactly
-  const double limit_F = limit * dof_scale;
-  bool finite = std::isfinite(energy);
-  tagint who = 0;
-  for (int i = 0; i < atom->nlocal && finite; i++) {
-    const double *fi = f[i], *fFi = fF[i];
-    // & (not &&): six comparisons without a branch each
-    finite = (std::fabs(fi[0]) < limit) & (std::fabs(fi[1]) < limit) &
-        (std::fabs(fFi[0]) < limit_F) & (std::fabs(fFi[1]) < limit_F) &
-        (std::fabs(fFi[2]) < limit_F) & (std::fabs(fFi[3]) < limit_F);
-    if (!finite) who = atom->tag[i];
-  }
-  if (!finite)
-    error->one(FLERR,
-               "Pair style cgms/shaped: the energy or the force {} is not finite (or so large "
-               "that the minimiser's force norm overflows) in a state of finite F: a keyword "
-               "(wall_EA, soft, beta_a, beta_b, kg_ratio, "
-               "smooth) or material value is far outside its physical range; give values of "
-               "the order of the defaults (doc/pair_cgms_shaped.rst)",
-               who ? fmt::format("on bead {}", who) : std::string("sum"));
+  const tagint who = i >= 0 ? atom->tag[i] : 0;
+  error->one(FLERR,
+             "Pair style cgms/shaped: the energy or the force {} is not finite (or so large "
+             "that the minimiser's force norm overflows) in a state of finite F: a keyword "
+             "(wall_EA, soft, beta_a, beta_b, kg_ratio, "
+             "smooth) or material value is far outside its physical range; give values of "
+             "the order of the defaults (doc/pair_cgms_shaped.rst)",
+             who ? fmt::format("on bead {}", who) : std::string("sum"));
 }
 
 /* ----------------------------------------------------------------------

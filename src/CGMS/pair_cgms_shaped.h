@@ -102,7 +102,7 @@ class PairCGMSShaped : public Pair {
   void check_fresh_neighbours();
   void refuse_asymmetric_lists();
   void refuse_renamed_ids();
-  void refuse_nonfinite(double energy);
+  void refuse_nonfinite(int i);
   void refuse_inverted();
   void find_properties();
   void fresh_strain_and_bond_length();
@@ -110,8 +110,9 @@ class PairCGMSShaped : public Pair {
   void cache_fresh_data();
   double cell_term(int i, double *dEdF, int &bad);
   void cache_bonds();
-  double bond_terms(int i);
-  void bond_forces();
+  double bond_terms();
+  void bond_virial(int i, int j, int paired, double fx, double fy);
+  int bond_forces();
   void lj_terms();
   void exclude_fresh_pairs();
 };
