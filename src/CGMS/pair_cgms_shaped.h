@@ -23,8 +23,9 @@ namespace LAMMPS_NS {
 // the fresh tissue (fresh neighbours and bond vectors, wall vectors, polygon area,
 // boundary flag; custom properties of a fix property/atom, written into the data file by
 // python/cgms/shaped_data.py). compute() evaluates, per local bead, its cell's fluid and
-// wall energy (a function of F alone), each of its fresh bonds' compatibility in full
-// (energy halved: the neighbour's owner evaluates the same bond), and the LJ repulsion
+// wall energy (a function of F alone), its fresh bonds' compatibility (a bond between two
+// local beads once for both; a bond to a ghost in full with its energy halved, the
+// neighbour's owner evaluating the same bond), and the LJ repulsion
 // over the half neighbour list without the fresh neighbours. Only F and the boundary flag
 // travel to the ghosts (forward communication); no force goes back. F is a per-atom
 // degree of freedom of the line-search minimisers (min_xf_* hooks, as pair eff/cut).
