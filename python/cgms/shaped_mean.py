@@ -6,16 +6,18 @@ shear from the neighbourhood's flattening"): every bond of the compatibility als
 the mean of the cells' deviatoric stretch over a neighbourhood, so that a flattening shared
 by the cells around a bond shears the bead network while each cell's own does not.
 
-Cell j's deviatoric stretch is D_j = F_j - sqrt(det F_j) R(F_j) (its deformation less its
-size and rotation; :func:`cgms.shaped_tensor._deviatoric`). The bond ik's mismatch gains
+Cell j's deviatoric stretch is the anticonformal part of its F, D_j = (V_j - tr V_j / 2) R_j
+for F_j = V_j R_j (:func:`cgms.shaped_tensor._deviatoric`): its flattening at its size, in
+its own frame, linear in F_j and traceless, so that cells flattened in every direction
+average to no shear and to no change of area. The bond ik's mismatch gains
 
     - f a Dbar_ik d0_ik,    Dbar_ik = sum_j w_ikj D_j,    w_ik = (W_i + W_k) / 2,
 
 with ``dev_mean`` a (0: off) and W_i uniform over the cells within ``dev_hops`` steps of
-cell i in the fresh neighbour graph (i included). With ``dev_hops`` 0 it is ``iso`` less
-a (each bond follows a of its own two cells' flattening); with a wide neighbourhood only
-the flattening that the cells around a bond share passes. D is rotated with its cell, so
-the energy stays invariant under x -> Q x + t, F_j -> Q F_j.
+cell i in the fresh neighbour graph (i included). With ``dev_hops`` 0 each bond follows a
+of its own two cells' flattening; with a wide neighbourhood only the flattening that the
+cells around a bond share passes. D(Q F) = Q D(F) for a rotation Q, so the energy stays
+invariant under x -> Q x + t, F_j -> Q F_j.
 
 This module has the neighbourhood weights and the assembly of the compatibility with the
 term; the per-cell D and its derivatives come from :mod:`cgms.shaped_tensor`, which calls
@@ -54,10 +56,9 @@ def compatibility(x, F, lev, ti, tk, dev, order=1):
     """k_g / 2 sum_b |m_b|^2 with m_b = x_k - x_i - f (t_i + t_k) / 2 - :func:`shift`:
     energy and gradient (6n), with ``order`` 2 also the Hessian (sparse). ``ti``, ``tk``:
     the own cells' targets with their derivatives (shaped_tensor._bond_target, per bond);
-    ``dev``: D (n, 2, 2), dD/dF (n, 2, 2, 4) and, with order 2, d2D/dF2 (n, 2, 2, 4, 4).
-    The Hessian is k_g J^T J plus the targets' second derivatives contracted with m: per
-    bond on F_i and F_k, and per cell j on F_j for the term (sum over the bonds whose
-    neighbourhood holds j)."""
+    ``dev``: D (n, 2, 2) and its constant dD/dF (n, 2, 2, 4). The Hessian is k_g J^T J
+    plus the own targets' second derivatives contracted with m, per bond on F_i and F_k
+    (D is linear in F: the term adds none)."""
     n, k_g, a = lev["n"], lev["k_g"], lev["dev_mean"]
     i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
     d0, f, w = lev["bond0"], lev["f_bond"], lev["dev_weights"].tocoo()
@@ -93,11 +94,4 @@ def compatibility(x, F, lev, ti, tk, dev, order=1):
     fi = idx[:, 4:12]
     H2 = sp.csr_matrix((blk.ravel(), (np.repeat(fi, 8, axis=1).ravel(),
                                       np.tile(fi, (1, 8)).ravel())), shape=(6 * n, 6 * n))
-    # per cell j: sum_rc Y_jrc d2D_j[r, c], Y = w^T (-k_g a f m d0^T)
-    y = -(k_g * a * f)[:, None, None] * m[:, :, None] * d0[:, None, :]
-    Y = (lev["dev_weights"].T @ y.reshape(-1, 4)).reshape(-1, 2, 2)
-    cell = np.einsum("jrc,jrcpq->jpq", Y, dev[2])
-    ci = 2 * n + 4 * np.arange(n)[:, None] + np.arange(4)
-    H3 = sp.csr_matrix((cell.ravel(), (np.repeat(ci, 4, axis=1).ravel(),
-                                       np.tile(ci, (1, 4)).ravel())), shape=(6 * n, 6 * n))
-    return E, g, sp.csr_matrix(k_g * (J.T @ J) + H2 + H3)
+    return E, g, sp.csr_matrix(k_g * (J.T @ J) + H2)

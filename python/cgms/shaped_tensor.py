@@ -45,8 +45,9 @@ from . import model, shaped, shaped_mean
 #: ``iso_rim``: the iso of the bonds of class ``rim_class`` instead (None: ``iso`` for
 #: every bond): "rim", the bonds between two boundary cells (those beta scales), or
 #: "boundary", every bond with a boundary cell at one end at least
-#: ``dev_mean``: the share of the neighbourhood's mean deviatoric stretch in every bond
-#: target (0: off), over the cells within ``dev_hops`` steps (:mod:`cgms.shaped_mean`)
+#: ``dev_mean``: the share of the neighbourhood's mean deviatoric stretch (the anticonformal
+#: part of F) in every bond target (0: off), over the cells within ``dev_hops`` steps
+#: (:mod:`cgms.shaped_mean`)
 DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
                 smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim", dev_mean=0.0,
                 dev_hops=2)
@@ -312,18 +313,16 @@ def _bond_target(F, d0, iso, order=1):
     return v, dv, d2v
 
 
-def _deviatoric(F, order=1):
-    """Each cell's deviatoric stretch D = F - sqrt(det F) R(F) (n, 2, 2), with dD/dF
-    (n, 2, 2, 4) and, with ``order`` 2, d2D/dF2 (n, 2, 2, 4, 4): column c of D is F e_c
-    less the iso bond target of e_c."""
-    n = len(F)
-    cols = [_bond_target(F, np.tile(e, (n, 1)), 1.0, order) for e in np.eye(2)]
-    D = F - np.stack([t[0] for t in cols], -1)
-    dD = np.broadcast_to(np.eye(4).reshape(2, 2, 4), (n, 2, 2, 4)) \
-        - np.stack([t[1] for t in cols], 2)
-    if order == 1:
-        return D, dD
-    return D, dD, -np.stack([t[2] for t in cols], 2)
+def _deviatoric(F):
+    """Each cell's deviatoric stretch (n, 2, 2): the anticonformal part of F, F - M / 2
+    with M = [[p, -q], [q, p]] (p = F_11 + F_22, q = F_21 - F_12), which is (V - tr V / 2)
+    R for F = V R, the cell's flattening at its size, in its own frame; and its derivative
+    dD/dF (n, 2, 2, 4), a constant (D is linear in F)."""
+    a, b, c, d = F[:, 0, 0], F[:, 0, 1], F[:, 1, 0], F[:, 1, 1]
+    u, v = 0.5 * (a - d), 0.5 * (b + c)
+    D = np.stack([np.stack([u, v], -1), np.stack([v, -u], -1)], 1)
+    dD = np.array([[[0.5, 0, 0, -0.5], [0, 0.5, 0.5, 0]], [[0, 0.5, 0.5, 0], [-0.5, 0, 0, 0.5]]])
+    return D, np.broadcast_to(dD, (len(F), 2, 2, 4))
 
 
 def mismatch(z, lev):
@@ -356,7 +355,7 @@ def compatibility(z, lev, order=1):
     ti = _bond_target(F[i], d0, lev["iso"], order)
     tk = _bond_target(F[k], d0, lev["iso"], order)
     if lev["dev_mean"]:
-        return shaped_mean.compatibility(x, F, lev, ti, tk, _deviatoric(F, order), order)
+        return shaped_mean.compatibility(x, F, lev, ti, tk, _deviatoric(F), order)
     m = x[k] - x[i] - 0.5 * f[:, None] * (ti[0] + tk[0])
     gx = np.zeros((n, 2))
     np.add.at(gx, k, k_g * m)

@@ -271,17 +271,20 @@ def test_neighbourhood_flattening_derivatives(iso, hops):
     assert_derivatives(z, lev)
 
 
-def test_neighbourhood_of_no_step_is_the_own_cells_flattening():
-    """With ``dev_hops`` 0 the neighbourhood of a bond is its two cells, so ``iso`` 1 with
-    ``dev_mean`` a is ``iso`` 1 - a: the same energy and gradient to rounding (the terms
-    are summed in another grouping)."""
-    z, lev = dried_state(s=0.6, seed=9, params=dict(GAP, iso=0.75))
-    _, lev_m = dried_state(s=0.6, seed=9, params=dict(GAP, iso=1.0, dev_mean=0.25,
-                                                        dev_hops=0))
-    E, g = st.energy(z, lev)
-    E_m, g_m = st.energy(z, lev_m)
-    assert abs(E_m - E) <= 64 * EPS * (abs(E) + gradient_scale(z, lev))
-    np.testing.assert_allclose(g_m, g, rtol=0, atol=64 * EPS * np.abs(g).max())
+def test_deviatoric_stretch_is_the_flattening_at_the_cells_size():
+    """D(F) = (V - tr V / 2) R for F = V R: zero for a scaled rotation, traceless and
+    symmetric for a pure stretch (sqrt(J) (k - 1/k) / 2 along its axes), rotated with the
+    cell (D(Q F) = Q D(F)); exact to rounding."""
+    th, J, k = 0.4, 0.3, 1.8
+    Q = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
+    P = np.array([[math.cos(1.1), -math.sin(1.1)], [math.sin(1.1), math.cos(1.1)]])
+    V = math.sqrt(J) * P @ np.diag([k, 1 / k]) @ P.T
+    D, _ = st._deviatoric(np.stack([math.sqrt(J) * Q, V, V @ Q, Q @ V]))
+    np.testing.assert_allclose(D[0], 0.0, rtol=0, atol=16 * EPS)
+    want = math.sqrt(J) * (k - 1 / k) / 2 * P @ np.diag([1.0, -1.0]) @ P.T
+    np.testing.assert_allclose(D[1], want, rtol=0, atol=16 * EPS)
+    np.testing.assert_allclose(D[2], want @ Q, rtol=0, atol=16 * EPS)
+    np.testing.assert_allclose(D[3], Q @ D[1], rtol=0, atol=16 * EPS)
 
 
 def test_neighbourhood_flattening_is_invariant_under_rigid_motions():
