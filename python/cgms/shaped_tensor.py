@@ -29,7 +29,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from . import model, shaped
+from . import model, shaped, shaped_mean
 
 #: parameters beyond cgms.shaped.DEFAULTS: kg_ratio, the lamella's compatibility stiffness
 #: k_g in units of the wall's stretch stiffness EA / x_ref; the gap law between the cells'
@@ -45,8 +45,12 @@ from . import model, shaped
 #: ``iso_rim``: the iso of the bonds of class ``rim_class`` instead (None: ``iso`` for
 #: every bond): "rim", the bonds between two boundary cells (those beta scales), or
 #: "boundary", every bond with a boundary cell at one end at least
+#: ``dev_mean``: the share of the neighbourhood's mean deviatoric stretch (the anticonformal
+#: part of F) in every bond target (0: off), over the cells within ``dev_hops`` steps
+#: (:mod:`cgms.shaped_mean`)
 DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
-                smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim")
+                smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim", dev_mean=0.0,
+                dev_hops=2)
 
 
 def _cof(F):
@@ -108,6 +112,10 @@ def build(xy0, mat, params=None, spacing=None):
         edge = geo["rim"] if p["rim_class"] == "rim" else \
             geo["boundary"][bonds[:, 0]] | geo["boundary"][bonds[:, 1]]
         geo["iso"] = np.where(edge, float(p["iso_rim"]), float(p["iso"]))
+    geo["dev_mean"] = float(p["dev_mean"])
+    if geo["dev_mean"]:
+        geo["dev_weights"] = shaped_mean.bond_weights(geo["topo"]["neighbours"], bonds,
+                                                      p["dev_hops"])
     if p["void"]:
         _fresh_with_void(geo, mat)
     return geo
@@ -305,23 +313,39 @@ def _bond_target(F, d0, iso, order=1):
     return v, dv, d2v
 
 
+def _deviatoric(F):
+    """Each cell's deviatoric stretch (n, 2, 2): the anticonformal part of F, F - M / 2
+    with M = [[p, -q], [q, p]] (p = F_11 + F_22, q = F_21 - F_12), which is (V - tr V / 2)
+    R for F = V R, the cell's flattening at its size, in its own frame; and its derivative
+    dD/dF (n, 2, 2, 4), a constant (D is linear in F)."""
+    a, b, c, d = F[:, 0, 0], F[:, 0, 1], F[:, 1, 0], F[:, 1, 1]
+    u, v = 0.5 * (a - d), 0.5 * (b + c)
+    D = np.stack([np.stack([u, v], -1), np.stack([v, -u], -1)], 1)
+    dD = np.array([[[0.5, 0, 0, -0.5], [0, 0.5, 0.5, 0]], [[0, 0.5, 0.5, 0], [-0.5, 0, 0, 0.5]]])
+    return D, np.broadcast_to(dD, (len(F), 2, 2, 4))
+
+
 def mismatch(z, lev):
     """Every bond's mismatch m_b (flattened, 2 per bond)."""
-    if _linear(lev["iso"]):
+    if _linear(lev["iso"]) and not lev["dev_mean"]:
         return lev["C"] @ z
     x, F = split(z, lev["n"])
     i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
     t = (_bond_target(F[i], lev["bond0"], lev["iso"])[0]
          + _bond_target(F[k], lev["bond0"], lev["iso"])[0])
-    return np.ravel(x[k] - x[i] - 0.5 * lev["f_bond"][:, None] * t)
+    m = x[k] - x[i] - 0.5 * lev["f_bond"][:, None] * t
+    if lev["dev_mean"]:
+        m = m - shaped_mean.shift(_deviatoric(F)[0], lev)
+    return np.ravel(m)
 
 
 def compatibility(z, lev, order=1):
     """The middle lamella's compatibility k_g / 2 sum_b |m_b|^2, m_b = x_k - x_i - f_b
     (G(F_i) + G(F_k)) d0_b / 2: its energy and gradient (6n), with ``order`` 2 also its
-    Hessian (sparse). With ``iso`` 0 the map is linear (lev["C"])."""
+    Hessian (sparse). With ``iso`` 0 the map is linear (lev["C"]); with ``dev_mean`` the
+    bonds also follow the neighbourhood's flattening (:mod:`cgms.shaped_mean`)."""
     n, k_g = lev["n"], lev["k_g"]
-    if _linear(lev["iso"]):
+    if _linear(lev["iso"]) and not lev["dev_mean"]:
         m = lev["C"] @ z
         out = (0.5 * k_g * m @ m, k_g * (lev["C"].T @ m))
         return out + (k_g * (lev["C"].T @ lev["C"]),) if order == 2 else out
@@ -330,6 +354,8 @@ def compatibility(z, lev, order=1):
     d0, f = lev["bond0"], lev["f_bond"]
     ti = _bond_target(F[i], d0, lev["iso"], order)
     tk = _bond_target(F[k], d0, lev["iso"], order)
+    if lev["dev_mean"]:
+        return shaped_mean.compatibility(x, F, lev, ti, tk, _deviatoric(F), order)
     m = x[k] - x[i] - 0.5 * f[:, None] * (ti[0] + tk[0])
     gx = np.zeros((n, 2))
     np.add.at(gx, k, k_g * m)

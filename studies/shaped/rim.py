@@ -24,7 +24,8 @@ ratios and elongation against the interior's.
 JSON`` measures the tensor variant's beads (cgms.shaped_tensor, parameters as table.py's
 --params, a ramp run here: 1-25 min per tissue) on the same bonds instead of the MFC's
 centroids; ``--states FOLDER`` measures the states table.py --save wrote there and adds
-the boundary cells' own |F t| / |F n|. A few seconds for the MFC.
+the boundary cells' own |F t| / |F n| and the interior cells' orientation order (of the
+long axes of their F, with the mean axis from x). A few seconds for the MFC.
 """
 
 import argparse
@@ -146,6 +147,15 @@ def cell_flattening(xy0, F, rim, bonds):
     return float(np.mean(out))
 
 
+def cell_order(F, sel):
+    """Orientation order of the selected cells' long axes (the major axis of F F^T):
+    |<exp(2 i theta)>| (0 unordered, 1 all parallel) and its mean axis in degrees from x."""
+    B = np.einsum("nij,nkj->nik", F[sel], F[sel])
+    theta = 0.5 * np.arctan2(2 * B[:, 0, 1], B[:, 0, 0] - B[:, 1, 1])
+    z = np.mean(np.exp(2j * theta))
+    return float(abs(z)), float(np.degrees(np.angle(z) / 2))
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tissues", default="calibration,1.5x1.5,1.5x2.0,1.5x2.5,2.0x2.0,"
@@ -160,7 +170,7 @@ def main(argv=None):
             "rim Fnn", "interior", "interior Fx", "interior Fy", "span x", "span y")
     model = args.model or args.states
     if args.states:
-        extra = ("cell Ft/Fn",)
+        extra = ("cell Ft/Fn", "inner order", "inner axis deg")
     elif args.model:
         extra = ()
     else:
@@ -181,6 +191,7 @@ def main(argv=None):
                 r = measure(states["1"], states[s], float(s), bonds, rim, kind)
                 if args.states:
                     r["cell Ft/Fn"] = cell_flattening(states["1"], Fs[s], rim, bonds)
+                    r["inner order"], r["inner axis deg"] = cell_order(Fs[s], ~rim)
             print(f"| {tissue} | {s} | " + " | ".join(f"{r[k]:.3f}" for k in cols + extra)
                   + " |", flush=True)
     return 0

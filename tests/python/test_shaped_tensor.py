@@ -258,3 +258,73 @@ def test_per_bond_iso_of_one_value_is_the_uniform_iso():
     E_b, g_b = st.energy(z, lev_b)
     assert abs(E_b - E) <= 64 * EPS * (abs(E) + gradient_scale(z, lev))
     np.testing.assert_allclose(g_b, g, rtol=0, atol=64 * EPS * np.abs(g).max())
+
+
+@pytest.mark.parametrize("iso, hops", [(1.0, 2), (0.6, 1)])
+def test_neighbourhood_flattening_derivatives(iso, hops):
+    """``dev_mean``: every bond also follows the mean deviatoric stretch of the cells
+    within ``dev_hops`` steps (cgms.shaped_mean), beside its own cells' target, in the
+    gradient and the Hessian; rim bonds scaled by beta != 1."""
+    z, lev = dried_state(s=0.6, seed=9, params=dict(GAP, iso=iso, dev_mean=0.3,
+                                                      dev_hops=hops))
+    assert lev["dev_weights"].nnz > 2 * len(lev["bonds"])
+    assert_derivatives(z, lev)
+
+
+def test_deviatoric_stretch_is_the_flattening_at_the_cells_size():
+    """D(F) = (V - tr V / 2) R for F = V R: zero for a scaled rotation, traceless and
+    symmetric for a pure stretch (sqrt(J) (k - 1/k) / 2 along its axes), rotated with the
+    cell (D(Q F) = Q D(F)); exact to rounding."""
+    th, J, k = 0.4, 0.3, 1.8
+    Q = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
+    P = np.array([[math.cos(1.1), -math.sin(1.1)], [math.sin(1.1), math.cos(1.1)]])
+    V = math.sqrt(J) * P @ np.diag([k, 1 / k]) @ P.T
+    D, _ = st._deviatoric(np.stack([math.sqrt(J) * Q, V, V @ Q, Q @ V]))
+    np.testing.assert_allclose(D[0], 0.0, rtol=0, atol=16 * EPS)
+    want = math.sqrt(J) * (k - 1 / k) / 2 * P @ np.diag([1.0, -1.0]) @ P.T
+    np.testing.assert_allclose(D[1], want, rtol=0, atol=16 * EPS)
+    np.testing.assert_allclose(D[2], want @ Q, rtol=0, atol=16 * EPS)
+    np.testing.assert_allclose(D[3], Q @ D[1], rtol=0, atol=16 * EPS)
+
+
+def test_neighbourhood_flattening_is_invariant_under_rigid_motions():
+    """D(Q F) = Q D(F): rotating every bead and F leaves the energy with the term."""
+    z, lev = dried_state(s=0.3, seed=7, params=dict(iso=1.0, dev_mean=0.5, dev_hops=2))
+    n = lev["n"]
+    E, g = st.energy(z, lev)
+    x, F = st.split(z, n)
+    c, s = math.cos(0.7), math.sin(0.7)
+    R = np.array([[c, -s], [s, c]])
+    E2, g2 = st.energy(st.join(x @ R.T + np.array([3e-4, -2e-4]), R @ F), lev)
+    m = 64 * len(lev["cell"])
+    assert abs(E2 - E) <= m * EPS * (abs(E) + gradient_scale(z, lev))
+    np.testing.assert_allclose(st.split(g2, n)[1], R @ st.split(g, n)[1], rtol=0,
+                               atol=m * EPS * np.abs(g).max())
+
+
+def test_neighbourhood_flattening_off_leaves_the_committed_model():
+    """``dev_mean`` 0 (the default) takes the committed path: the same energy, gradient
+    and Hessian bit for bit as parameters without the key."""
+    params = dict(GAP, iso=1.0, beta_b=0.04, soft=0.002)
+    z, lev = dried_state(s=0.6, seed=9, params=params)
+    _, lev0 = dried_state(s=0.6, seed=9, params=dict(params, dev_mean=0.0, dev_hops=3))
+    assert "dev_weights" not in lev0
+    E, g = st.energy(z, lev)
+    E0, g0 = st.energy(z, lev0)
+    assert E0 == E and np.array_equal(g0, g)
+    assert (st.hessian(z, lev) != st.hessian(z, lev0)).nnz == 0
+
+
+def test_neighbourhood_weights():
+    """Each bond's weights sum to one and reach the cells within dev_hops steps of either
+    end; a bad dev_hops is refused by name."""
+    from cgms import shaped_mean
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, L)
+    geo = st.build(xy, MAT, dict(dev_mean=0.5, dev_hops=1))
+    w = geo["dev_weights"].toarray()
+    np.testing.assert_allclose(w.sum(axis=1), 1.0, rtol=0, atol=16 * EPS)
+    nbr = geo["topo"]["neighbours"] | np.eye(geo["n"], dtype=bool)
+    for b, (i, k) in enumerate(geo["bonds"]):
+        np.testing.assert_array_equal(w[b] > 0, nbr[i] | nbr[k])
+    with pytest.raises(ValueError, match="dev_hops"):
+        shaped_mean.bond_weights(geo["topo"]["neighbours"], geo["bonds"], 1.5)
