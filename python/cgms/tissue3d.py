@@ -160,6 +160,10 @@ def build(body, a, jitter=0.0, seed=0):
         raise ValueError(f"the {body['kind']} holds {len(x)} bead(s) at cube edge "
                          f"{a * 1e6:.4g} um: it must be at least a/2 = {a * 5e5:.4g} um "
                          "thick, and larger to hold a tissue")
+    if np.linalg.svd(x - x.mean(axis=0), compute_uv=False)[-1] < 1e-9 * a:
+        raise ValueError(f"the {body['kind']} holds {len(x)} beads in one plane at cube edge "
+                         f"{a * 1e6:.4g} um: a 3-D tissue needs two layers, a slab at least "
+                         f"a = {a * 1e6:.4g} um thick (one layer is the 2-D model)")
     return dict(x=x, a=a, body=body, **cells(x, body, a))
 
 
