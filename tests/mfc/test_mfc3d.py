@@ -305,3 +305,27 @@ def test_fix_refuses_bad_walls_and_input(tmp_path, case, message):
         out = refused(tmp_path, after=["unfix cell", "fix bad all mfc/pressure3d modulus 2e7 "
                                        "turgor 2e5"])
     assert "ERROR" in out and message in out, out[-2000:]
+
+
+@pytest.mark.lammps
+def test_fix_mfc_pressure3d_example_runs_as_written(tmp_path):
+    """The Examples of doc/fix_mfc_pressure3d.rst: the Python block writes the cell, the
+    LAMMPS block (its plugin path made this build's, its volume the builder's) minimises
+    it to a steady state."""
+    import subprocess
+    import sys
+    from cgmstest import ROOT, lammps_env
+    from errors.test_mfc_styles_errors import rst_blocks
+    blocks = rst_blocks("doc/fix_mfc_pressure3d.rst")
+    python = [b for lang, b in blocks if lang == "python"]
+    lammps = [b for lang, b in blocks if lang == "LAMMPS"]
+    assert len(python) == 1 and len(lammps) == 1
+    env = lammps_env()
+    env["PYTHONPATH"] = str(ROOT / "python")
+    subprocess.run([sys.executable, "-c", python[0]], cwd=tmp_path, env=env, check=True)
+    script = lammps[0].replace("/path/to/cgms/build/cgmsplugin.so", PLUGIN)
+    w = cell3d.wall(P, 3)
+    assert f"volume {w['fluid_volume']:.15e}" in script
+    proc = run_lmp(tmp_path, script + '\nprint "FMAX $(fmax:%.17g)"\n')
+    fmax = float(proc.stdout.split("FMAX ")[1].split()[0])
+    assert fmax < 1e-9 * P_T * cell3d.area(w["x"], w["tri"]) / len(w["x"])
