@@ -19,6 +19,7 @@
 #include "fix_cgms_fluid.h"
 #include "fix_cgms_transport.h"
 #include "fix_mfc_pressure.h"
+#include "fix_mfc_pressure3d.h"
 #include "lammps.h"
 #include "pair_cgms.h"
 #include "pair_cgms_shaped.h"
@@ -57,6 +58,11 @@ static Fix *fix_cgms_transport_creator(LAMMPS *lmp, int argc, char **argv)
 static Fix *fix_mfc_pressure_creator(LAMMPS *lmp, int argc, char **argv)
 {
   return new FixMFCPressure(lmp, argc, argv);
+}
+
+static Fix *fix_mfc_pressure3d_creator(LAMMPS *lmp, int argc, char **argv)
+{
+  return new FixMFCPressure3d(lmp, argc, argv);
 }
 
 static Compute *compute_cgms_atom_creator(LAMMPS *lmp, int argc, char **argv)
@@ -119,6 +125,12 @@ extern "C" void lammpsplugin_init(void *lmp_ptr, void *handle, void *regfunc)
   plugin.name = "mfc/pressure";
   plugin.info = "MFC fix: one equation-of-state pressure per cell from the area its wall encloses";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_mfc_pressure_creator;
+  (*register_plugin)(&plugin, lmp);
+
+  plugin.name = "mfc/pressure3d";
+  plugin.info = "MFC fix: one equation-of-state pressure per cell from the volume its "
+                "triangulated wall encloses";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_mfc_pressure3d_creator;
   (*register_plugin)(&plugin, lmp);
 
   plugin.style = "compute";

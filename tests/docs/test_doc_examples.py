@@ -181,6 +181,7 @@ PAGES = {
     "fix_cgms_transport.rst": lambda f: CGMS,
     "compute_cgms_atom.rst": lambda f: CGMS,
     "fix_mfc_pressure.rst": None,
+    "fix_mfc_pressure3d.rst": None,
     "pair_sph_taitwater_ap.rst": sph_setup,
     "pair_cgms_shaped.rst": shaped_setup,
 }
@@ -188,7 +189,10 @@ PAGES = {
 RUN_ELSEWHERE = {"fix_mfc_pressure.rst": "its Python block writes the walls its LAMMPS block "
                                          "reads: run as written, on 1 and 2 ranks, by "
                                          "test_mfc_styles_errors.py::test_fix_mfc_pressure_"
-                                         "example_runs_as_written"}
+                                         "example_runs_as_written",
+                 "fix_mfc_pressure3d.rst": "its Python block writes the cell its LAMMPS block "
+                                           "reads: run as written by test_mfc3d.py::"
+                                           "test_fix_mfc_pressure3d_example_runs_as_written"}
 
 
 def test_every_style_page_is_covered():

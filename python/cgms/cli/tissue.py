@@ -11,6 +11,7 @@ import sys
 import numpy as np
 
 from .. import material, positions, tissue
+from . import tissue3d
 from .options import describe, seed_int
 from .tissues import MAX_CLI_BEADS, diameters
 
@@ -54,11 +55,13 @@ def arguments(p):
                        description="Lattice points inside a closed polygon read from a text "
                                    "file: one 'x y' vertex per line, in metres.")
     g.add_argument("file", help="vertex file (x y per line, metres; '#' comments)")
+    tissue3d.add_shapes(sub)
 
 
-TISSUE_DESCRIPTION = ("Build a CGMS tissue (hexagonal lattice of beads) and write it as a "
-                      "LAMMPS data file for atom_style cgms. Sizes W, H, R are in MILLIMETRES; "
-                      "polygon vertex files are in METRES.")
+TISSUE_DESCRIPTION = ("Build a CGMS tissue (hexagonal lattice of beads; slab, block, cylinder: "
+                      "3-D, BCC lattice) and write it as a LAMMPS data file for atom_style "
+                      "cgms. Sizes W, H, R, L, T are in MILLIMETRES; polygon vertex files are "
+                      "in METRES.")
 
 
 
@@ -73,6 +76,8 @@ def tissue_main(argv=None):
 def job(args):
     """Build and write the tissue; every refusal (a bad option or input file, found before
     anything is written) is one line and status 2, as in the other commands."""
+    if args.shape in tissue3d.SHAPES:
+        return tissue3d.job(args)
     for name in ("width", "height", "radius", "spacing", "margin"):
         value = getattr(args, name, None)
         if value is not None and not (math.isfinite(value) and value > 0):
