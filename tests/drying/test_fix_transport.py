@@ -270,7 +270,7 @@ def test_disc_matches_crank(tmp_path):
     """Frozen mechanics, constant D, water out through the outline only (the outline the
     fix constructs from each bead's neighbours): X/X0(t) follows Crank's series for the
     disc within 1 % at every size, and the error falls as the beads get smaller (367, 823 and 3259
-    beads; measured 7.7e-3, 2.3e-3, 7.5e-4)."""
+    beads; measured 7.3e-3, 1.8e-3, 2.8e-4)."""
     errors = []
     for spacing in (1.5e-4, 1e-4, 0.5e-4):
         folder = tmp_path / f"a{spacing}"
@@ -283,7 +283,8 @@ def test_disc_matches_crank(tmp_path):
 
 @slow
 def test_disc_matches_crank_fine(tmp_path):
-    """The same with 13 057 beads (spacing 25 um): measured 1.3e-4."""
+    """The same with 13 057 beads (spacing 25 um): measured 1.3e-4 with backward Euler
+    steps (before the second-order step; not re-measured)."""
     error, _ = disc_error(tmp_path, 0.25e-4)
     assert error < 5e-4
 
