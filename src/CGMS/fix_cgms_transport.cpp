@@ -140,8 +140,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     nmax_bead(0), rho_s(nullptr), dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr),
     xn(nullptr), dn(nullptr), diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr),
     c0f(nullptr), bn(nullptr), xnew(nullptr), xbegin(nullptr), xfull(nullptr), comm_vec(nullptr),
-    cg(nullptr), along(nullptr),
-    shift(nullptr), shift_new(nullptr)
+    cg(nullptr), along(nullptr), shift(nullptr), shift_new(nullptr)
 {
   if (narg < 4)
     error->all(FLERR,
@@ -199,7 +198,9 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
   wd_section = 1;     // only to say in the data file that the columns are not in it
 
   // the solver's ghost exchange: this fix's forward communication of a node array
-  cg = new CGMS::ColumnCG(world, [this](double *v) { exchange_nodes(v); });
+  cg = new CGMS::ColumnCG(world, [this](double *v) {
+    exchange_nodes(v);
+  });
 
   FixCGMSTransport::grow_arrays(atom->nmax);
   atom->add_callback(Atom::GROW);

@@ -87,8 +87,8 @@ class FixCGMSTransport : public Fix {
   bigint beads;              // beads then
   bigint nmoves;
   int cg_iterations;    // of the last step's three solves
-  int halvings;      // how often the last step was halved to keep every node >= 0
-  double vec[16];    // the global outputs, refreshed after every moisture step
+  int halvings;         // how often the last step was halved to keep every node >= 0
+  double vec[16];       // the global outputs, refreshed after every moisture step
 
   // per bead, in the per-atom array of the fix property/atom STATE_FIX (it
   // travels with the bead, into restart and data files and past this fix's
@@ -105,11 +105,11 @@ class FixCGMSTransport : public Fix {
   double *rho_s, *dz, *area, *spacing, *edge;
   double *xn, *dn;    // node moisture and diffusivity (layers per bead)
   double *diag, *lower, *c1, *c0, *c1f, *c0f, *bn, *xnew;    // the step's system
-  double *xbegin, *xfull;    // the step's start (local and ghost), its whole-length result
-  double *comm_vec;                                          // the node array MODE_DIRECTION sends
-  CGMS::ColumnCG *cg;                                        // its solver
-  int **along;                            // an outline bead's neighbours before and after it
-  double **shift, **shift_new;            // the smoothing of the outline polygon
+  double *xbegin, *xfull;         // the step's start (local and ghost), its whole-length result
+  double *comm_vec;               // the node array MODE_DIRECTION sends
+  CGMS::ColumnCG *cg;             // its solver
+  int **along;                    // an outline bead's neighbours before and after it
+  double **shift, **shift_new;    // the smoothing of the outline polygon
   std::vector<int> pair_start, pair_j;    // in-plane neighbours of each local bead
   std::vector<double> pair_dist;          // their centre distance
   std::vector<double> pair_g;             // their conductance per layer
