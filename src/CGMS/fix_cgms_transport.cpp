@@ -64,7 +64,7 @@ enum Row {
   R_WATER,    // water, dry solid and beads of the tissue at the last moisture step
   R_SOLIDS,
   R_BEADS,
-  R_TPRODUCT,    // product temperature of the last step (the next step's D lags on it)
+  R_TPRODUCT,    // product temperature at the start of the last step (output 11)
   R_DTMOVE,      // length of the next moisture step (s)
   R_NMOVES,
   R_RATE,
