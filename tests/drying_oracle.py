@@ -73,33 +73,32 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
         rows.append(row)
         return row, dict(xy=xy, s=mean / x0, surface=surf / x0, core=core / x0)
 
-    def temperature():
+    def diffusivity(v, t_c):
+        return transport.diffusivity(v, t_c, params["D_ref"], params["T_ref"],
+                                     params["D_energy"], params["D_moisture"], x0)
+
+    def temperature(v):
         if not cond["heat"]:
             return cond["temperature"]
-        # D at the last product temperature for the surface resistance: a lag of one step
-        d = transport.diffusivity(x, t_product, params["D_ref"], params["T_ref"],
-                                  params["D_energy"], params["D_moisture"], x0)
         return transport.product_temperature(kc, h, cond["temperature"], cond["humidity"],
-                                             gab, grid, x, d, cond["outline"])
+                                             gab, grid, v, diffusivity, cond["outline"])
 
-    t_product = cond["temperature"]     # the first guess temperature() starts from
-    t_product = temperature()
+    def coefficients(v):
+        """D and the surface law at node moisture ``v``, at its product temperature."""
+        tp = temperature(v)
+        return (lambda u: diffusivity(u, tp),
+                transport.vapour_surface(kc, tp, cond["temperature"], cond["humidity"], gab))
+
+    t_product = temperature(x)
     record(0.0)
     t_end = hours * 3600
     x_eq = drying.equilibrium_ratio(params, cond["humidity"])
     halved = 0
     while t < t_end - 1e-9 and rows[-1]["X/X0"] > max(stop, x_eq + drying.EQUILIBRIUM_GAP):
         dt = min(dt, t_end - t)
-        t_product = temperature()
-        law = transport.vapour_surface(kc, t_product, cond["temperature"], cond["humidity"],
-                                       gab)
-
-        def diff(v):
-            return transport.diffusivity(v, t_product, params["D_ref"], params["T_ref"],
-                                         params["D_energy"], params["D_moisture"], x0)
-
+        t_product = temperature(x)        # the output: at the start of the step
         before = transport.water(grid, x)
-        x_new, face, edge, dt, cut = positive_step(grid, x, dt, diff, law, cond["outline"])
+        x_new, face, edge, dt, cut = positive_step(grid, x, dt, coefficients, cond["outline"])
         halved += cut
         change = np.abs(x_new - x).max() / x0
         x = x_new
@@ -131,16 +130,18 @@ def dry(xy, params, conditions=None, levers=None, hours=4.0, stop=0.0, mechanics
                 halved=halved)
 
 
-def positive_step(grid, x, dt, diff, law, outline):
-    """:func:`cgms.transport.step` of at most ``dt``, halved until every node's moisture
-    stays finite and non-negative: the surface law is linearised at the start of the
-    step, and while the surface holds free water (aw = 1) it is a constant flux, which a
-    long step draws past the water the surface nodes hold (measured with dx_max 1 and no
-    heat: the faces' mean X/X0 at -0.15). Returns (x, out through faces, out through the outline, the
-    step taken, how often it was halved); RuntimeError after :data:`drying.MAX_HALVINGS`."""
+def positive_step(grid, x, dt, coefficients, outline):
+    """:func:`cgms.drying.transport.extrapolated_step` of at most ``dt``, halved until
+    every node's moisture stays finite and non-negative at its midpoint and its end: the
+    surface law is linearised at the start of each Euler step, and while the surface
+    holds free water (aw = 1) it is a constant flux, which a long step draws past the
+    water the surface nodes hold (measured with dx_max 1 and no heat: the faces' mean
+    X/X0 at -0.15). Returns (x, out through faces, out through the outline, the step
+    taken, how often it was halved); RuntimeError after :data:`drying.MAX_HALVINGS`."""
     for cut in range(drying.MAX_HALVINGS + 1):
-        x_new, face, edge, _ = transport.step(grid, x, dt, diff, law, outline=outline)
-        if np.all(np.isfinite(x_new)) and x_new.min() >= 0:
+        x_new, face, edge, mid = transport.extrapolated_step(grid, x, dt, coefficients,
+                                                             outline=outline)
+        if all(np.all(np.isfinite(v)) and v.min() >= 0 for v in (mid, x_new)):
             return x_new, face, edge, dt, cut
         dt *= 0.5
     raise RuntimeError(f"no moisture step keeps every node's moisture finite and "

@@ -16,7 +16,7 @@
 namespace LAMMPS_NS {
 namespace CGMS {
 
-  // The matrix of one backward Euler moisture step of fix cgms/transport: every
+  // The matrix of one linearised backward Euler step of fix cgms/transport: every
   // bead's column of `layers` nodes (node = bead * layers + layer), coupled
   // along the column (a tridiagonal block per bead) and, layer by layer, to
   // the same layer of its in-plane neighbours (which may be ghosts). The

@@ -64,7 +64,7 @@ enum Row {
   R_WATER,    // water, dry solid and beads of the tissue at the last moisture step
   R_SOLIDS,
   R_BEADS,
-  R_TPRODUCT,    // product temperature of the last step (the next step's D lags on it)
+  R_TPRODUCT,    // product temperature at the start of the last step (output 11)
   R_DTMOVE,      // length of the next moisture step (s)
   R_NMOVES,
   R_RATE,
@@ -139,8 +139,8 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
     Fix(lmp, narg, arg), list(nullptr), istate(-1), out(nullptr), own(nullptr), nmax_own(0),
     nmax_bead(0), rho_s(nullptr), dz(nullptr), area(nullptr), spacing(nullptr), edge(nullptr),
     xn(nullptr), dn(nullptr), diag(nullptr), lower(nullptr), c1(nullptr), c0(nullptr), c1f(nullptr),
-    c0f(nullptr), bn(nullptr), xnew(nullptr), comm_vec(nullptr), cg(nullptr), along(nullptr),
-    shift(nullptr), shift_new(nullptr)
+    c0f(nullptr), bn(nullptr), xnew(nullptr), xbegin(nullptr), xfull(nullptr), comm_vec(nullptr),
+    cg(nullptr), along(nullptr), shift(nullptr), shift_new(nullptr)
 {
   if (narg < 4)
     error->all(FLERR,
@@ -199,9 +199,7 @@ FixCGMSTransport::FixCGMSTransport(LAMMPS *lmp, int narg, char **arg) :
 
   // the solver's ghost exchange: this fix's forward communication of a node array
   cg = new CGMS::ColumnCG(world, [this](double *v) {
-    comm_vec = v;
-    comm_mode = MODE_DIRECTION;
-    comm->forward_comm(this, layers);
+    exchange_nodes(v);
   });
 
   FixCGMSTransport::grow_arrays(atom->nmax);
@@ -434,7 +432,7 @@ FixCGMSTransport::~FixCGMSTransport()
   memory->destroy(out);
   memory->destroy(own);
   for (double **p : {&rho_s, &dz, &area, &spacing, &edge, &xn, &dn, &diag, &lower, &c1, &c0, &c1f,
-                     &c0f, &bn, &xnew})
+                     &c0f, &bn, &xnew, &xbegin, &xfull})
     memory->destroy(*p);
   delete cg;
   memory->destroy(shift);
@@ -1014,7 +1012,7 @@ void FixCGMSTransport::grow_beads()
   nmax_bead = atom->nmax;
   for (double **p : {&rho_s, &dz, &area, &spacing, &edge})
     memory->grow(*p, nmax_bead, "cgms/transport:bead");
-  for (double **p : {&xn, &dn, &diag, &c1, &c0, &c1f, &c0f, &bn, &xnew})
+  for (double **p : {&xn, &dn, &diag, &c1, &c0, &c1f, &c0f, &bn, &xnew, &xbegin, &xfull})
     memory->grow(*p, (bigint) nmax_bead * layers, "cgms/transport:node");
   memory->grow(lower, (bigint) nmax_bead * MAX(layers - 1, 1), "cgms/transport:column");
   memory->grow(shift, nmax_bead, 2, "cgms/transport:shift");
@@ -1193,8 +1191,8 @@ void FixCGMSTransport::surface_law(double x, double rho_sat_p, double rho_air, d
 /* ----------------------------------------------------------------------
    heat balance of the slice at product temperature tp (W): what the air
    brings to every exchanging surface minus the latent heat of what
-   evaporates there (python/cgms/transport.py product_temperature), with the
-   diffusivity dn of the local nodes
+   evaporates there (python/cgms/drying/transport.py product_temperature),
+   the half-node resistance with the diffusivity at tp
 ------------------------------------------------------------------------- */
 
 double FixCGMSTransport::evaporation(double tp)
@@ -1209,10 +1207,11 @@ double FixCGMSTransport::evaporation(double tp)
     local[1] += a;
   };
   for (int i = 0; i < atom->nlocal; i++) {
-    if (faces) add(i * layers, area[i], dn[i * layers] * rho_s[i] / (0.5 * dz[i]));
+    const int top = i * layers;
+    if (faces) add(top, area[i], diffusivity(xn[top], tp) * rho_s[i] / (0.5 * dz[i]));
     if (edge[i] > 0.0)
-      for (int l = 0; l < layers; l++)
-        add(i * layers + l, edge[i] * dz[i], dn[i * layers + l] * rho_s[i] / (0.5 * spacing[i]));
+      for (int n = top; n < top + layers; n++)
+        add(n, edge[i] * dz[i], diffusivity(xn[n], tp) * rho_s[i] / (0.5 * spacing[i]));
   }
   MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_SUM, world);
   return hc * (t_air - tp) * all[1] - latent_heat(tp) * all[0];
@@ -1221,8 +1220,6 @@ double FixCGMSTransport::evaporation(double tp)
 double FixCGMSTransport::product_temperature()
 {
   if (!heat) return t_air;
-  // D at the last product temperature for the surface resistance: a lag of one step
-  for (int n = 0; n < atom->nlocal * layers; n++) dn[n] = diffusivity(xn[n], t_product);
   if (evaporation(t_air) >= 0.0) return t_air;
   double lo = -20.0, hi = t_air;
   if (evaporation(lo) <= 0.0)
@@ -1244,8 +1241,16 @@ double FixCGMSTransport::product_temperature()
 }
 
 /* ----------------------------------------------------------------------
-   one backward Euler moisture step of length dt_move
-   (python/cgms/transport.py step, and the loop of python/cgms/drying.py dry)
+   one moisture step of length dt_move (python/cgms/drying/transport.py
+   extrapolated_step, and the loop of tests/drying_oracle.py): the Richardson
+   extrapolation of the linearised backward Euler step, twice the result of
+   two half steps minus that of one whole step. Each is first order with an
+   error expansion in the step, so the combination is second order; as the
+   step grows its amplification goes to zero (L-stable). The water out is
+   combined alike, so the balance closes as each Euler step's does. The
+   coefficients (product temperature, D, surface law) are those at the start
+   of each Euler step: of the whole one and the first half at the step's
+   start, of the second half at the midpoint.
 ------------------------------------------------------------------------- */
 
 void FixCGMSTransport::move()
@@ -1255,32 +1260,43 @@ void FixCGMSTransport::move()
   // the drying ends at 'until' (1e-9 s: below any step the adaptive rule makes)
   if (until > 0.0 && time >= until - 1e-9) return;
   const int nlocal = atom->nlocal;
+  const int nn = nlocal * layers;
+  const int nall = nlocal + atom->nghost;
   double dt = until > 0.0 ? MIN(dt_move, until - time) : dt_move;
   geometry();
-  t_product = product_temperature();
-  const int nall = nlocal + atom->nghost;
-  for (int n = 0; n < nall * layers; n++) dn[n] = diffusivity(xn[n], t_product);
-  check_diffusivity();
+  std::copy(xn, xn + (bigint) nall * layers, xbegin);
 
   const double before = water;    // the totals of the last refresh_vector
+  double face, edge_out, t_start;
   for (halvings = 0;; halvings++) {
-    assemble(dt);
-    cg_iterations = solve();
-    if (!drained(dt, halvings)) break;
+    cg_iterations = 0;
+    coefficients();
+    t_start = t_product;
+    double face_whole, edge_whole, face1, edge1, face2, edge2;
+    euler(dt, face_whole, edge_whole);
+    std::copy(xnew, xnew + nn, xfull);
+    euler(0.5 * dt, face1, edge1);
+    if (!drained(dt, halvings)) {
+      std::copy(xnew, xnew + nn, xn);
+      exchange_nodes(xn);
+      coefficients();
+      euler(0.5 * dt, face2, edge2);
+      for (int n = 0; n < nn; n++) xnew[n] = 2.0 * xnew[n] - xfull[n];
+      face = 2.0 * (face1 + face2) - face_whole;
+      edge_out = 2.0 * (edge1 + edge2) - edge_whole;
+      if (!drained(dt, halvings)) break;
+    }
+    std::copy(xbegin, xbegin + (bigint) nall * layers, xn);
     dt *= 0.5;
   }
+  // the output is the product temperature at the start of the step
+  t_product = t_start;
 
-  double local[3] = {0.0, 0.0, 0.0}, all[3];
-  for (int n = 0; n < nlocal * layers; n++) {
-    local[0] += c1[n] * xnew[n] + c0[n];
-    local[1] += c1f[n] * xnew[n] + c0f[n];
-    local[2] = MAX(local[2], fabs(xnew[n] - xn[n]) / x0);
-  }
-  MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_SUM, world);
-  double change;
-  MPI_Allreduce(&local[2], &change, 1, MPI_DOUBLE, MPI_MAX, world);
-  out_face += multiplicity * dt * all[1];
-  out_edge += multiplicity * dt * (all[0] - all[1]);
+  double change = 0.0, local = 0.0;
+  for (int n = 0; n < nn; n++) local = MAX(local, fabs(xnew[n] - xbegin[n]) / x0);
+  MPI_Allreduce(&local, &change, 1, MPI_DOUBLE, MPI_MAX, world);
+  out_face += face;
+  out_edge += edge_out;
 
   for (int i = 0; i < nlocal; i++) {
     for (int l = 0; l < layers; l++) column(i)[l] = xnew[i * layers + l];
@@ -1300,6 +1316,47 @@ void FixCGMSTransport::move()
   rate = (before - water) / (water0 - gone0) / (dt / 3600.0);
   vec[3] = rate;
   save_globals();
+}
+
+/* ----------------------------------------------------------------------
+   the coefficients at the node moisture xn (local and ghost): the product
+   temperature, then the diffusivity of every node at it
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::coefficients()
+{
+  t_product = product_temperature();
+  const int nall = atom->nlocal + atom->nghost;
+  for (int n = 0; n < nall * layers; n++) dn[n] = diffusivity(xn[n], t_product);
+  check_diffusivity();
+}
+
+/* ----------------------------------------------------------------------
+   one linearised backward Euler step of length dt from xn with the
+   coefficients of coefficients(), into xnew; the water out through the
+   faces and through the outline over it (kg, whole columns)
+------------------------------------------------------------------------- */
+
+void FixCGMSTransport::euler(double dt, double &face, double &edge_out)
+{
+  assemble(dt);
+  cg_iterations += solve();
+  double local[2] = {0.0, 0.0}, all[2];
+  for (int n = 0; n < atom->nlocal * layers; n++) {
+    local[0] += c1[n] * xnew[n] + c0[n];
+    local[1] += c1f[n] * xnew[n] + c0f[n];
+  }
+  MPI_Allreduce(local, all, 2, MPI_DOUBLE, MPI_SUM, world);
+  face = multiplicity * dt * all[1];
+  edge_out = multiplicity * dt * (all[0] - all[1]);
+}
+
+// the ghost entries of a node array from their owners
+void FixCGMSTransport::exchange_nodes(double *v)
+{
+  comm_vec = v;
+  comm_mode = MODE_DIRECTION;
+  comm->forward_comm(this, layers);
 }
 
 /* ----------------------------------------------------------------------
@@ -1331,10 +1388,11 @@ void FixCGMSTransport::check_diffusivity()
 }
 
 /* ----------------------------------------------------------------------
-   the step's solution drives a node below zero moisture: the surface law is
-   linearised at the start of the step, and at free water (a_w = 1) it is a
-   constant evaporation, which a long step carries past the water the node
-   holds. An adaptive step is halved (returns 1); a fixed one is refused.
+   xnew (the step's midpoint or its result) holds a node below zero moisture:
+   the surface law is linearised at the start of each Euler step, and at free
+   water (a_w = 1) it is a constant evaporation, which a long step carries past
+   the water the node holds. An adaptive step (length dt) is halved (returns
+   1); a fixed one is refused.
 ------------------------------------------------------------------------- */
 
 int FixCGMSTransport::drained(double dt, int halving)
@@ -1644,7 +1702,7 @@ void FixCGMSTransport::restart(char *buf)
 double FixCGMSTransport::memory_usage()
 {
   return sizeof(double) *
-      ((double) atom->nmax * 4.5 + 9.0 * nmax_bead + 14.0 * nmax_bead * layers +
+      ((double) atom->nmax * 4.5 + 9.0 * nmax_bead + 16.0 * nmax_bead * layers +
        (double) pair_g.size() + (double) pair_dist.size()) +
       sizeof(int) * ((double) pair_j.size() + pair_start.size());
 }

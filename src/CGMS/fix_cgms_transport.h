@@ -21,9 +21,11 @@ namespace CGMS {
 // Time-domain drying: moisture transport through a tissue slice and out into
 // the air (doc/drying.md, doc/fix_cgms_transport.rst). Every bead carries a
 // column of `layers` moisture nodes across the slice thickness; every N MD
-// steps the fix advances the moisture by one backward Euler step of its own
-// length (seconds of drying), solved by conjugate gradients preconditioned by
-// the columns. The same equations as python/cgms/transport.py.
+// steps the fix advances the moisture by one step of its own length (seconds of
+// drying): the Richardson extrapolation of linearised backward Euler steps
+// (one of the whole length, two of half of it; second order in the step), each
+// solved by conjugate gradients preconditioned by the columns. The same
+// equations as python/cgms/drying/transport.py.
 class FixCGMSTransport : public Fix {
  public:
   FixCGMSTransport(class LAMMPS *, int, char **);
@@ -84,9 +86,9 @@ class FixCGMSTransport : public Fix {
   double solids;             // dry solid of the tissue then (kg)
   bigint beads;              // beads then
   bigint nmoves;
-  int cg_iterations;
-  int halvings;      // how often the last step was halved to keep every node >= 0
-  double vec[16];    // the global outputs, refreshed after every moisture step
+  int cg_iterations;    // of the last step's three solves
+  int halvings;         // how often the last step was halved to keep every node >= 0
+  double vec[16];       // the global outputs, refreshed after every moisture step
 
   // per bead, in the per-atom array of the fix property/atom STATE_FIX (it
   // travels with the bead, into restart and data files and past this fix's
@@ -103,10 +105,11 @@ class FixCGMSTransport : public Fix {
   double *rho_s, *dz, *area, *spacing, *edge;
   double *xn, *dn;    // node moisture and diffusivity (layers per bead)
   double *diag, *lower, *c1, *c0, *c1f, *c0f, *bn, *xnew;    // the step's system
-  double *comm_vec;                                          // the node array MODE_DIRECTION sends
-  CGMS::ColumnCG *cg;                                        // its solver
-  int **along;                            // an outline bead's neighbours before and after it
-  double **shift, **shift_new;            // the smoothing of the outline polygon
+  double *xbegin, *xfull;         // the step's start (local and ghost), its whole-length result
+  double *comm_vec;               // the node array MODE_DIRECTION sends
+  CGMS::ColumnCG *cg;             // its solver
+  int **along;                    // an outline bead's neighbours before and after it
+  double **shift, **shift_new;    // the smoothing of the outline polygon
   std::vector<int> pair_start, pair_j;    // in-plane neighbours of each local bead
   std::vector<double> pair_dist;          // their centre distance
   std::vector<double> pair_g;             // their conductance per layer
@@ -142,6 +145,9 @@ class FixCGMSTransport : public Fix {
   double product_temperature();
   double evaporation(double);
   void move();
+  void coefficients();
+  void euler(double, double &, double &);
+  void exchange_nodes(double *);
   void assemble(double);
   int solve();
   int drained(double, int);

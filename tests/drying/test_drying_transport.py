@@ -178,7 +178,7 @@ def test_air_side():
     grid = transport.column_grid(geo, np.full(len(xy), 2e-3), RHO_S * geo["area"] * 2e-3, 2)
     wet = np.full(len(xy) * 2, 6.0)          # free water at the surface: aw = 1
     tp = transport.product_temperature(kc, h, 70.0, 0.1, (0.12, 5.0, 0.9), grid, wet,
-                                       np.full_like(wet, 1e-6))
+                                       lambda v, t_c: np.full_like(v, 1e-6))
     assert abs(tp - 34.2) < 2.5      # 34.2 C: the adiabatic-saturation balance by hand
     assert 0.01 < kc < 0.05 and 15 < h < 40
 

@@ -192,8 +192,8 @@ def test_large_moisture_steps_keep_moisture_non_negative(tmp_path, capsys):
     a step, is a constant flux while the surface holds free water, and long steps drew it
     past the water there (X/X0 = -0.077 at the end, the faces at -0.15, before). Now the
     step is halved until every node stays non-negative, and the water balance still
-    closes (each accepted step is an exact backward Euler step: 1e-10, as in
-    test_drying)."""
+    closes (each accepted step combines three exact backward Euler steps, water and
+    outflow alike: 1e-10, as in test_drying)."""
     out = tmp_path / "out"
     status, err, stdout = dry(capsys, out, *SMALL, "--frozen", "--no-heat", "--dx-max", "1",
                               "--hours", "1")
