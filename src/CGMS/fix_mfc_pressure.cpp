@@ -11,6 +11,7 @@
 #include "error.h"
 #include "group.h"
 #include "memory.h"
+#include "mfc_cells.h"
 #include "modify.h"
 #include "update.h"
 
@@ -68,7 +69,7 @@ FixMFCPressure::FixMFCPressure(LAMMPS *lmp, int narg, char **arg) :
   if (group->count(igroup) == 0)
     error->all(FLERR, "Fix mfc/pressure group {} is empty: it must hold the cells' wall particles",
                group->names[igroup]);
-  ncell = max_molecule();
+  ncell = CGMS::max_cell_molecule(lmp, this);
 
   scalar_flag = 1;
   extscalar = 1;
@@ -106,56 +107,20 @@ int FixMFCPressure::setmask()
 
 /* ---------------------------------------------------------------------- */
 
-/* ----------------------------------------------------------------------
-   the largest molecule ID in the group; every wall particle's ID names its
-   cell, so it must be positive
-------------------------------------------------------------------------- */
-
-int FixMFCPressure::max_molecule()
-{
-  tagint local = 0, global = 0;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & groupbit)) continue;
-    if (atom->molecule[i] <= 0)
-      error->one(FLERR,
-                 "Fix mfc/pressure: wall particle {} has molecule ID {}: every particle of "
-                 "group {} needs the positive molecule ID of its cell",
-                 atom->tag[i], atom->molecule[i], group->names[igroup]);
-    local = MAX(local, atom->molecule[i]);
-  }
-  MPI_Allreduce(&local, &global, 1, MPI_LMP_TAGINT, MPI_MAX, world);
-  if (global > MAXSMALLINT)
-    error->all(FLERR, "Fix mfc/pressure: molecule IDs up to {} are too large", global);
-  return (int) global;
-}
-
 /* ---------------------------------------------------------------------- */
 
 void FixMFCPressure::init()
 {
   if (domain->xperiodic || domain->yperiodic)
     error->all(FLERR, "Fix mfc/pressure needs non-periodic x and y (boundary f f p)");
-  if (max_molecule() > ncell)
+  if (CGMS::max_cell_molecule(lmp, this) > ncell)
     error->all(FLERR,
                "Fix mfc/pressure: the group has molecule IDs above {} (its cells when "
                "the fix was defined); define the fix again",
                ncell);
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "Fix mfc/pressure needs an atom map (atom_modify map)");
-  // a wall particle in two of these fixes has its cell's fluid pushing on it twice
-  for (auto *other : modify->get_fix_by_style("^mfc/pressure$")) {
-    if (other == this) continue;
-    int local = 0, shared;
-    for (int i = 0; i < atom->nlocal && !local; i++)
-      if ((atom->mask[i] & groupbit) && (atom->mask[i] & other->groupbit)) local = 1;
-    MPI_Allreduce(&local, &shared, 1, MPI_INT, MPI_MAX, world);
-    if (shared)
-      error->all(FLERR,
-                 "Fix mfc/pressure {}: fix {} holds wall particles of group {} too, so their "
-                 "cells' fluid would push twice; each cell belongs to one fix (unfix {}, or "
-                 "give the fixes groups without a common particle)",
-                 id, other->id, group->names[igroup], other->id);
-  }
+  CGMS::refuse_shared_walls(lmp, this);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -279,8 +244,8 @@ void FixMFCPressure::post_force(int /*vflag*/)
     const double q6 = q * q * q * q * q * q;
     pressure[c] = CGMS::tait_pressure(CGMS::pow7(q), turgor, modulus);
     // -H int_{A_f}^{A} P dA, zero at A = A_f
-    const double stored =
-        height * ((modulus - turgor) * (area[c] - fluid_area) + modulus * fluid_area / 6.0 * (q6 - 1.0));
+    const double stored = height *
+        ((modulus - turgor) * (area[c] - fluid_area) + modulus * fluid_area / 6.0 * (q6 - 1.0));
     // a fluid squeezed far below its rest area: (A_f / A)^7 overflows
     if (!std::isfinite(pressure[c]) || !std::isfinite(stored))
       error->all(FLERR,

@@ -49,7 +49,6 @@ class FixMFCPressure : public Fix {
   double *pressure;    // per cell: pressure (Pa)
   double energy;       // sum over cells of -H int_{A_f}^{A} P dA (J)
 
-  int max_molecule();
   void ring_partners(int, int &, int &);
 };
 

@@ -13,6 +13,7 @@
 #include "force.h"
 #include "group.h"
 #include "memory.h"
+#include "mfc_cells.h"
 #include "modify.h"
 #include "neighbor.h"
 #include "update.h"
@@ -84,7 +85,7 @@ FixMFCPressure3d::FixMFCPressure3d(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR,
                "Fix mfc/pressure3d group {} is empty: it must hold the cells' wall particles",
                group->names[igroup]);
-  ncell = max_molecule();
+  ncell = CGMS::max_cell_molecule(lmp, this);
 
   scalar_flag = 1;
   extscalar = 1;
@@ -120,29 +121,6 @@ int FixMFCPressure3d::setmask()
   return POST_FORCE | MIN_POST_FORCE;
 }
 
-/* ----------------------------------------------------------------------
-   the largest molecule ID in the group; every wall particle's ID names its
-   cell, so it must be positive
-------------------------------------------------------------------------- */
-
-int FixMFCPressure3d::max_molecule()
-{
-  tagint local = 0, global = 0;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & groupbit)) continue;
-    if (atom->molecule[i] <= 0)
-      error->one(FLERR,
-                 "Fix mfc/pressure3d: wall particle {} has molecule ID {}: every particle of "
-                 "group {} needs the positive molecule ID of its cell",
-                 atom->tag[i], atom->molecule[i], group->names[igroup]);
-    local = MAX(local, atom->molecule[i]);
-  }
-  MPI_Allreduce(&local, &global, 1, MPI_LMP_TAGINT, MPI_MAX, world);
-  if (global > MAXSMALLINT)
-    error->all(FLERR, "Fix mfc/pressure3d: molecule IDs up to {} are too large", global);
-  return (int) global;
-}
-
 /* ---------------------------------------------------------------------- */
 
 void FixMFCPressure3d::init()
@@ -153,24 +131,12 @@ void FixMFCPressure3d::init()
     error->all(FLERR,
                "Fix mfc/pressure3d needs an angle style (e.g. angle_style zero): LAMMPS "
                "lists the wall triangles, which are angles, only when one is defined");
-  if (max_molecule() > ncell)
+  if (CGMS::max_cell_molecule(lmp, this) > ncell)
     error->all(FLERR,
                "Fix mfc/pressure3d: the group has molecule IDs above {} (its cells when "
                "the fix was defined); define the fix again",
                ncell);
-  // a wall particle in two of these fixes has its cell's fluid pushing on it twice
-  for (auto *other : modify->get_fix_by_style("^mfc/pressure3d$")) {
-    if (other == this) continue;
-    int local = 0, shared;
-    for (int i = 0; i < atom->nlocal && !local; i++)
-      if ((atom->mask[i] & groupbit) && (atom->mask[i] & other->groupbit)) local = 1;
-    MPI_Allreduce(&local, &shared, 1, MPI_INT, MPI_MAX, world);
-    if (shared)
-      error->all(FLERR,
-                 "Fix mfc/pressure3d {}: fix {} holds wall particles of group {} too, so "
-                 "their cells' fluid would push twice; each cell belongs to one fix",
-                 id, other->id, group->names[igroup]);
-  }
+  CGMS::refuse_shared_walls(lmp, this);
 }
 
 /* ---------------------------------------------------------------------- */

@@ -53,7 +53,6 @@ class FixMFCPressure3d : public Fix {
   int nmax;
   double **fwall;    // per owned and ghost atom: the pressure force before reverse comm
 
-  int max_molecule();
   int triangle_cell(const int *);
   void sum_volumes();
   void cell_pressures();
