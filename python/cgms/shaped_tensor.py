@@ -55,25 +55,31 @@ def _cof(F):
                      np.stack([-F[:, 0, 1], F[:, 0, 0]], -1)], 1)
 
 
-def build(xy0, mat, params=None, spacing=None):
+def build(xy0, mat, params=None, spacing=None, local=False):
     """Everything fixed for a tissue built at ``xy0``: the shaped model's topology, fresh
     fluid areas and rest lengths (:func:`cgms.shaped.build`, at beta = 1), plus each wall's
     fresh vector ``d0`` (edge e of cell ``cell[e]``), each cell's fresh polygon area, the
     fresh bonds with their vectors, and the compatibility maps: the mismatch is
-    ``Cx z - f Cf z``, f = beta(s) on rim bonds (both cells on the boundary), else 1."""
+    ``Cx z - f Cf z``, f = beta(s) on rim bonds (both cells on the boundary), else 1.
+    ``local``: the topology of :func:`cgms.shaped_local.base`, without (n, n) arrays (no
+    junction map, no LJ pair list: :mod:`cgms.shaped_newton` finds the near pairs)."""
     p = dict(DEFAULTS, **(params or {}))
-    geo = shaped.build(xy0, mat, {k: v for k, v in p.items() if k in shaped.DEFAULTS},
-                       spacing)
+    sub = {k: v for k, v in p.items() if k in shaped.DEFAULTS}
+    if local:
+        from . import shaped_local
+        geo = shaped_local.base(xy0, mat, sub, spacing)
+    else:
+        geo = shaped.build(xy0, mat, sub, spacing)
     x0 = geo["x0"]
     n = geo["n"]
-    J = (geo["M"] @ x0.ravel()).reshape(-1, 2)
-    a, b = J[geo["ja"]] - x0[geo["cell"]], J[geo["jb"]] - x0[geo["cell"]]
-    geo["d0"] = b - a
-    geo["poly_area0"] = 0.5 * np.bincount(geo["cell"], a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
-                                          minlength=n)
-    nb = np.triu(geo["topo"]["neighbours"])
-    bonds = np.argwhere(nb)
-    geo["bonds"] = bonds
+    if not local:
+        J = (geo["M"] @ x0.ravel()).reshape(-1, 2)
+        a, b = J[geo["ja"]] - x0[geo["cell"]], J[geo["jb"]] - x0[geo["cell"]]
+        geo["d0"] = b - a
+        geo["poly_area0"] = 0.5 * np.bincount(geo["cell"],
+                                              a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], minlength=n)
+        geo["bonds"] = np.argwhere(np.triu(geo["topo"]["neighbours"]))
+    bonds = geo["bonds"]
     geo["bond0"] = x0[bonds[:, 1]] - x0[bonds[:, 0]]
     geo["k_g"] = p["kg_ratio"] * p["wall_EA"] / mat["x_ref"]
     geo["kg_ratio"] = p["kg_ratio"]
@@ -108,7 +114,7 @@ def build(xy0, mat, params=None, spacing=None):
         edge = geo["rim"] if p["rim_class"] == "rim" else \
             geo["boundary"][bonds[:, 0]] | geo["boundary"][bonds[:, 1]]
         geo["iso"] = np.where(edge, float(p["iso_rim"]), float(p["iso"]))
-    if p["void"]:
+    if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
     return geo
 
