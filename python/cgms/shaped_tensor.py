@@ -488,12 +488,15 @@ def relax(z, lev, ftol=1e-9, maxiter=500):
                     message=str(res.message))
 
 
-def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1):
+def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1, local=False,
+         solver=None):
     """Steady states along a drying ramp from the built tissue: each level starts from the
     previous state shrunk isotropically by sqrt(s / s_prev) (beads about their centroid,
     every F), every F kicked by a seeded uniform perturbation of up to ``kick`` (to leave
-    the symmetric saddle where no cell flattens). Returns (geometry, [(s, z, info)])."""
-    geo = build(xy0, mat, params)
+    the symmetric saddle where no cell flattens). ``local`` builds without (n, n) arrays
+    (:func:`build`); ``solver(z, lev, ftol)`` replaces :func:`relax` (e.g.
+    :func:`cgms.shaped_newton.newton`). Returns (geometry, [(s, z, info)])."""
+    geo = build(xy0, mat, params, local=local)
     rng = np.random.default_rng(seed)
     z = fresh_state(geo)
     n = geo["n"]
@@ -508,7 +511,7 @@ def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1):
         F = F * f
         if kick and s < 1:
             F = F + rng.uniform(-kick, kick, F.shape) * math.sqrt(s)
-        z, info = relax(join(x, F), lev, ftol)
+        z, info = (solver or relax)(join(x, F), lev, ftol)
         out.append((s, z, info))
         prev = s
     return geo, out

@@ -1,0 +1,176 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""Steady states of the shaped tensor model (:mod:`cgms.shaped_tensor`) at scale: Newton's
+method on its exact sparse Hessian, for tissues of 10^4-10^5 beads, where
+``shaped_tensor.relax`` (a dense trust region) cannot hold the matrix and LAMMPS's cg
+needs thousands of iterations (doc/results/shaped-lammps.md).
+
+Each iteration factorises H + lambda diag(|H|) (SciPy's SuperLU, symmetric ordering,
+diagonal pivots, so that the signs of U's diagonal are the inertia of the matrix,
+Sylvester): lambda is raised until the matrix is positive definite and the step is taken,
+lowered after each step taken (Levenberg-Marquardt; the model is not convex where walls
+buckle and cells flatten, and a kicked start sits near the symmetric saddle). A step is
+taken when the energy falls (Armijo) or, once the change is below the energy's rounding
+(the Tait energy at fixed mass is a difference of large terms), when the largest force
+falls. The LJ pairs are found afresh (k-d tree) at every state, so nothing holds (n, n)
+arrays. Variables are scaled as ``relax`` scales them: positions in x_ref, the gradient
+in units of ``ftol``, so "converged" is the same test as relax's and LAMMPS's ``norm
+max``: every bead force and every dE/dF / x_ref at most ``ftol`` (N).
+"""
+
+import math
+import time
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from . import shaped_local, shaped_tensor as st
+
+#: the largest step, per component: x_ref for positions, 1 for F (a step must not carry
+#: beads across the LJ radius in one go)
+MAX_STEP = 0.1
+#: the first shift when H is not positive definite, relative to H's largest diagonal entry
+MU0 = 1e-3
+#: a shift this small (relative) always: the rigid motions are null modes of H
+RIGID_SHIFT = 1e-12
+TRACE = False
+
+
+def with_near_pairs(x, lev):
+    """``lev`` with its LJ pairs (``pairs``) the non-bonded pairs closer than r_lj at
+    positions ``x``: the only pairs :func:`cgms.shaped.lj_energy` counts."""
+    n = lev["n"]
+    keys = lev.get("bond_keys")
+    if keys is None:
+        keys = np.sort(shaped_local.pair_keys(np.sort(lev["bonds"], axis=1), n))
+    pairs = shaped_local.neighbour_pairs(x, lev["r_lj"])
+    pairs = pairs[~np.isin(shaped_local.pair_keys(pairs, n), keys, assume_unique=True)]
+    return dict(lev, pairs=pairs)
+
+
+def rounding(lev):
+    """The energy's rounding (J): the fluid energy's terms are each of size H K A."""
+    mat = lev["mat"]
+    return 64 * np.finfo(float).eps * mat["height"] * mat["K"] * float(np.sum(lev["A_f0"]))
+
+
+def _factorise(A):
+    """SuperLU of the symmetric ``A`` with a symmetric fill-reducing ordering and diagonal
+    pivots. Returns (factorisation, number of negative pivots; None when the row and
+    column orders differ, so that the pivots' signs are not the inertia)."""
+    lu = spla.splu(A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                   options=dict(SymmetricMode=True))
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return lu, None
+    return lu, int(np.sum(lu.U.diagonal() <= 0))
+
+
+class Problem:
+    """The scaled energy of one level: y = z / unit, E / (ftol x_ref)."""
+
+    def __init__(self, lev, ftol):
+        n = lev["n"]
+        self.lev, self.n, self.ftol = lev, n, ftol
+        L = lev["mat"]["x_ref"]
+        self.unit = np.concatenate([np.full(2 * n, L), np.ones(4 * n)])
+        self.scale = ftol * L
+        self.rounding = rounding(lev) / self.scale
+        self.evaluations = 0
+        self.seconds = dict(energy=0.0, hessian=0.0, factorise=0.0)
+
+    def energy(self, z):
+        t = time.process_time()
+        lv = with_near_pairs(st.split(z, self.n)[0], self.lev)
+        E, g = st.energy(z, lv)
+        self.evaluations += 1
+        self.seconds["energy"] += time.process_time() - t
+        return E / self.scale, g * self.unit / self.scale, lv
+
+    def hessian(self, z, lv):
+        t = time.process_time()
+        H = st.hessian(z, lv)
+        D = sp.diags(self.unit / math.sqrt(self.scale))
+        H = sp.csc_matrix(D @ H @ D)
+        self.seconds["hessian"] += time.process_time() - t
+        return H
+
+
+def newton(z, lev, ftol=1e-9, max_iterations=200):
+    """The steady state from ``z`` at level ``lev`` (:func:`cgms.shaped_tensor.at_level`,
+    of a tissue built with or without ``local``). Returns (z, info): info holds fmax (N,
+    as :func:`cgms.shaped_tensor.forces`), iterations (steps taken), factorisations,
+    evaluations, converged, status, and the CPU seconds spent in energy, Hessian and
+    factorisation.
+
+    A factorisation of H + mu I (scaled variables) is kept for further steps (chord
+    steps: each is a descent direction, the matrix being positive definite) while each
+    step at least halves the largest force; else the Hessian is assembled and factorised
+    afresh at the current state. mu is 0 where H is positive definite, else raised (x4,
+    from 1e-3 of H's largest diagonal entry) until it is, and halved at each fresh
+    factorisation."""
+    prob = Problem(lev, ftol)
+    z = np.asarray(z, float).copy()
+    E, g, lv = prob.energy(z)
+    mu, steps, factorisations = 0.0, 0, 0
+    lu, fresh = None, False
+    status = "iteration limit"
+    while steps < max_iterations:
+        if not np.all(np.isfinite(g)):
+            status = "the state has a cell of non-positive fluid area"
+            break
+        if np.abs(g).max() <= 1.0:
+            status = "converged"
+            break
+        if lu is None:
+            H = prob.hessian(z, lv)
+            top = np.abs(H.diagonal()).max()
+            mu *= 0.5
+            while True:
+                t = time.process_time()
+                lu, neg = _factorise(H + sp.identity(H.shape[0]) * (mu + RIGID_SHIFT * top))
+                prob.seconds["factorise"] += time.process_time() - t
+                factorisations += 1
+                if not neg:
+                    break
+                mu = max(4 * mu, MU0 * top)
+            fresh = True
+        p = -lu.solve(g)
+        p *= min(1.0, MAX_STEP / np.abs(p).max())
+        trial = z + p * prob.unit
+        E1, g1, lv1 = prob.energy(trial)
+        ok = np.isfinite(p).all() and accepted(E, g, E1, g1, p, prob.rounding)
+        if TRACE:
+            print(f"  step {steps} mu {mu:.1e} fresh {fresh} |g| {np.abs(g).max():.3e} "
+                  f"E {E:.10e} dE {E1 - E:.3e} |p| {np.abs(p).max():.3e} {ok}")
+        if ok:
+            slow = np.abs(g1).max() > 0.5 * np.abs(g).max()
+            z, E, g, lv = trial, E1, g1, lv1
+            steps += 1
+            if slow and not fresh:
+                lu = None
+            fresh = False
+        elif fresh:          # even a fresh factorisation's step fails: shift further
+            mu = max(8 * mu, MU0 * top)
+            lu = None
+        else:
+            lu = None
+        if mu > 1e6 * top:
+            status = "no step lowers the energy or the force"
+            break
+    fx, fF = st.forces(z, with_near_pairs(st.split(z, lev["n"])[0], lev))
+    fmax = max(fx, fF)
+    return z, dict(fmax=fmax, iterations=steps, factorisations=factorisations,
+                   evaluations=prob.evaluations, converged=fmax <= ftol, status=status,
+                   seconds=prob.seconds)
+
+
+def accepted(E, g, E1, g1, p, rounding):
+    """A step p from (E, g) to (E1, g1) is taken when the energy falls enough (Armijo,
+    c = 1e-4) or, the change being below the energy's rounding, the largest force falls."""
+    if not np.isfinite(E1):
+        return False
+    if E1 <= E + 1e-4 * (g @ p):
+        return True
+    return bool(abs(E1 - E) < rounding and np.abs(g1).max() < np.abs(g).max())
