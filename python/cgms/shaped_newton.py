@@ -174,3 +174,42 @@ def accepted(E, g, E1, g1, p, rounding):
     if E1 <= E + 1e-4 * (g @ p):
         return True
     return bool(abs(E1 - E) < rounding and np.abs(g1).max() < np.abs(g).max())
+
+
+#: the parameters of pair_style cgms/shaped's defaults (doc/pair_cgms_shaped.rst; the best
+#: set of doc/results/shaped-results.md), beyond cgms.shaped_tensor.DEFAULTS
+PAIR_DEFAULTS = {"soft": 0.002, "kg_ratio": 1.0, "strip": "contour", "lamella": 0.391,
+                 "void": 0.063, "iso": 1.0, "beta_b": 0.04}
+
+
+def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=200, progress=None):
+    """The shaped model's study of the tissue built at ``xy``: a drying ramp over
+    ``levels`` (wettest first; :func:`cgms.shaped_tensor.ramp`, kicked, each level
+    warm-started from the previous one) solved by :func:`newton`, and one row per level
+    as :func:`cgms.study.table` writes them: X/X0 (the fluid mass, fixed at s per level),
+    A/A0, P/P0, EL/EL0 of the bead outline (normalised by the wettest level), steps
+    (Newton steps), residual (the largest force, N), converged, wall and CPU seconds.
+    ``progress(s, info)`` is called after each level."""
+    from . import morphology
+    p = dict(PAIR_DEFAULTS, **(params or {}))
+
+    def solver(z, lev, tol):
+        t, c = time.time(), time.process_time()
+        z, info = newton(z, lev, tol, max_iterations)
+        info.update(wall=time.time() - t, cpu=time.process_time() - c)
+        if progress:
+            progress(lev["s"], info)
+        return z, info
+
+    geo, states = st.ramp(xy, mat, levels, p, ftol=ftol, local=True, solver=solver)
+    shapes = [morphology.measures(st.split(z, geo["n"])[0]) for _, z, _ in states]
+    fresh = shapes[int(np.argmax([s for s, _, _ in states]))]
+    rows = []
+    for (s, z, info), m in zip(states, shapes):
+        rows.append({"s": s, "X/X0": s, **morphology.normalise(m, fresh), "area": m["area"],
+                     "perimeter": m["perimeter"], "elongation": m["elongation"],
+                     "steps": info["iterations"], "residual": info["fmax"], "speed": "",
+                     "method": "shaped-newton", "converged": info["converged"],
+                     "seconds": info["wall"], "cpu_seconds": info["cpu"],
+                     "factorisations": info["factorisations"]})
+    return geo, states, rows
