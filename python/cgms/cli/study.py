@@ -160,6 +160,10 @@ def shaped_study_job(args):
             raise UsageError(f"{option} does not apply to --model shaped (Newton's method on "
                              "the shaped model, each level from the previous one)")
     mat_file, mat = material_of(args)
+    from .. import material
+    if mat_file.resolve() != material.find("apple").resolve():
+        raise UsageError(f"--material {args.material}: --model shaped has its parameters "
+                         "for apple only (doc/pair_cgms_shaped.rst, Default)")
     kept, left_out = levels_in_range(args, mat_file)
     kept = sorted(kept, reverse=True)        # a ramp: wettest first
     t = chosen_tissue(args, mat)
