@@ -107,14 +107,14 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
     A factorisation of H + mu I (scaled variables) is kept for further steps (chord
     steps: each is a descent direction, the matrix being positive definite) while each
     step at least halves the largest force; else the Hessian is assembled and factorised
-    afresh at the current state. mu is 0 where H is positive definite, else raised (x4,
-    from 1e-3 of H's largest diagonal entry) until it is, and halved at each fresh
-    factorisation."""
+    afresh at the current state. mu is raised (x4, from 1e-3 of H's largest diagonal
+    entry) until the matrix is positive definite and after a fresh factorisation's step
+    is refused, and halved at a fresh factorisation that follows a step taken."""
     prob = Problem(lev, ftol)
     z = np.asarray(z, float).copy()
     E, g, lv = prob.energy(z)
     mu, steps, factorisations = 0.0, 0, 0
-    lu, fresh = None, False
+    lu, fresh, relax_shift = None, False, False
     status = "iteration limit"
     while steps < max_iterations:
         if not np.all(np.isfinite(g)):
@@ -126,7 +126,8 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
         if lu is None:
             H = prob.hessian(z, lv)
             top = np.abs(H.diagonal()).max()
-            mu *= 0.5
+            if relax_shift:    # the last step was taken: try a smaller shift
+                mu *= 0.5
             while True:
                 t = time.process_time()
                 lu, neg = _factorise(H + sp.identity(H.shape[0]) * (mu + RIGID_SHIFT * top))
@@ -150,12 +151,12 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
             steps += 1
             if slow and not fresh:
                 lu = None
-            fresh = False
+            fresh, relax_shift = False, True
         elif fresh:          # even a fresh factorisation's step fails: shift further
-            mu = max(8 * mu, MU0 * top)
-            lu = None
-        else:
-            lu = None
+            mu = max(4 * mu, MU0 * top)
+            lu, relax_shift = None, False
+        else:                # a kept factorisation's step fails: factorise here, same shift
+            lu, relax_shift = None, False
         if mu > 1e6 * top:
             status = "no step lowers the energy or the force"
             break
@@ -182,7 +183,7 @@ PAIR_DEFAULTS = {"soft": 0.002, "kg_ratio": 1.0, "strip": "contour", "lamella": 
                  "void": 0.063, "iso": 1.0, "beta_b": 0.04}
 
 
-def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=200, progress=None):
+def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=1000, progress=None):
     """The shaped model's study of the tissue built at ``xy``: a drying ramp over
     ``levels`` (wettest first; :func:`cgms.shaped_tensor.ramp`, kicked, each level
     warm-started from the previous one) solved by :func:`newton`, and one row per level
