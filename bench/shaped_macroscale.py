@@ -66,7 +66,7 @@ def main(argv=None):
         "min_style cg", f"min_modify dmax 1e-6 norm max line {args.line}", "thermo 1000",
         f"minimize 0 {args.ftol} {args.maxiter} {10 * args.maxiter}",
         "write_dump all custom final.dump id x y "
-        + " ".join(f"d2_shaped_F[{k}]" for k in range(1, 5)) + " modify sort id", ""])
+        + " ".join(f"d2_shaped_F[{k}]" for k in range(1, 5)) + " modify sort id format float %.17g", ""])
     (args.out / "in.macro").write_text(text)
     cmd = [os.environ["CGMS_LMP"], "-in", "in.macro", "-log", "log.lammps", "-nocite",
            "-screen", "none"]
