@@ -7,8 +7,9 @@ level: the tissue's per-atom data by cgms.shaped_data.per_bead_local (the protot
 build holds (n, n) arrays), written with a kicked start at s (as shaped_tensor.ramp: beads
 and F shrunk by sqrt(s), F kicked by 1e-3), then ``minimize`` (cg, line forcezero) to a
 force tolerance or an iteration budget; the final state goes to <out>/final.dump (id, x,
-y, F; studies/shaped/newton_check.py compares it with cgms.shaped_newton). Prints the build time, the minimisation's
-iterations, force evaluations, loop time and the largest force left.
+y, F at full precision; studies/shaped/newton_check.py compares it with
+cgms.shaped_newton). Prints the build time, the minimisation's iterations, force
+evaluations, loop time and the largest force left.
 
 Outputs go to --out (default /tmp/cgms-shaped-macro), never into the repository.
 
@@ -66,7 +67,8 @@ def main(argv=None):
         "min_style cg", f"min_modify dmax 1e-6 norm max line {args.line}", "thermo 1000",
         f"minimize 0 {args.ftol} {args.maxiter} {10 * args.maxiter}",
         "write_dump all custom final.dump id x y "
-        + " ".join(f"d2_shaped_F[{k}]" for k in range(1, 5)) + " modify sort id format float %.17g", ""])
+        + " ".join(f"d2_shaped_F[{k}]" for k in range(1, 5))
+        + " modify sort id format float %.17g", ""])
     (args.out / "in.macro").write_text(text)
     cmd = [os.environ["CGMS_LMP"], "-in", "in.macro", "-log", "log.lammps", "-nocite",
            "-screen", "none"]
