@@ -2,19 +2,21 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """Steady states of the shaped tensor model (:mod:`cgms.shaped_tensor`) at scale: Newton's
-method on its exact sparse Hessian, for tissues of 10^4-10^5 beads, where
-``shaped_tensor.relax`` (a dense trust region) cannot hold the matrix and LAMMPS's cg
-needs thousands of iterations (doc/results/shaped-lammps.md).
+method on its exact sparse Hessian, for tissues where ``shaped_tensor.relax`` (a dense
+trust region) cannot hold the matrix. It converges (every level of tissues up to 1273
+beads measured) but needs hundreds of steps to leave the saddles, each with a sparse
+factorisation: slower than LAMMPS's cg, and out of reach at 20 273 beads
+(doc/results/shaped-lammps.md).
 
-Each iteration factorises H + lambda diag(|H|) (SciPy's SuperLU, symmetric ordering,
-diagonal pivots, so that the signs of U's diagonal are the inertia of the matrix,
-Sylvester): lambda is raised until the matrix is positive definite and the step is taken,
-lowered after each step taken (Levenberg-Marquardt; the model is not convex where walls
-buckle and cells flatten, and a kicked start sits near the symmetric saddle). A step is
-taken when the energy falls (Armijo) or, once the change is below the energy's rounding
-(the Tait energy at fixed mass is a difference of large terms), when the largest force
-falls. The LJ pairs are found afresh (k-d tree) at every state, so nothing holds (n, n)
-arrays. Variables are scaled as ``relax`` scales them: positions in x_ref, the gradient
+Each fresh factorisation is of H + mu I in scaled variables (SciPy's SuperLU, symmetric
+minimum-degree ordering, diagonal pivots, so that the signs of U's diagonal are the
+inertia of the matrix, Sylvester): mu is raised until the matrix is positive definite
+(the model is not convex where walls buckle and cells flatten, and a kicked start sits
+near the isotropic saddle), and the factorisation is kept for further (chord) steps while
+they make progress. A step is taken when the energy falls (Armijo) or, once the change
+is below the energy's rounding (the Tait energy at fixed mass is a difference of large
+terms), when the largest force falls. The LJ pairs are found afresh (k-d tree) at every
+state, so nothing holds (n, n) arrays. Variables are scaled as ``relax`` scales them: positions in x_ref, the gradient
 in units of ``ftol``, so "converged" is the same test as relax's and LAMMPS's ``norm
 max``: every bead force and every dE/dF / x_ref at most ``ftol`` (N).
 """
@@ -35,6 +37,7 @@ MAX_STEP = 0.1
 MU0 = 1e-3
 #: a shift this small (relative) always: the rigid motions are null modes of H
 RIGID_SHIFT = 1e-12
+#: print one line per trial step (to study the solver)
 TRACE = False
 
 
