@@ -13,7 +13,8 @@ minimum-degree ordering, diagonal pivots, so that the signs of U's diagonal are 
 inertia of the matrix, Sylvester): mu is raised until the matrix is positive definite
 (the model is not convex where walls buckle and cells flatten, and a kicked start sits
 near the isotropic saddle), and the factorisation is kept for further (chord) steps while
-they make progress. A step is taken when the energy falls (Armijo) or, once the change
+they make progress; where H is indefinite the step adds a direction of negative
+curvature that the factorisation gives for the cost of one solve. A step is taken when the energy falls (Armijo) or, once the change
 is below the energy's rounding (the Tait energy at fixed mass is a difference of large
 terms), when the largest force falls. The LJ pairs are found afresh (k-d tree) at every
 state, so nothing holds (n, n) arrays. Variables are scaled as ``relax`` scales them:
@@ -132,6 +133,7 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
             top = np.abs(H.diagonal()).max()
             if relax_shift:    # the last step was taken: try a smaller shift
                 mu *= 0.5
+            d = None
             while True:
                 t = time.process_time()
                 lu, neg = _factorise(H + sp.identity(H.shape[0]) * (mu + RIGID_SHIFT * top))
@@ -139,10 +141,15 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
                 factorisations += 1
                 if not neg:
                     break
+                if d is None and NEG_SCALE:
+                    d = negative_curvature(lu, g)
                 mu = max(4 * mu, MU0 * top)
             fresh = True
         p = -lu.solve(g)
         p *= min(1.0, MAX_STEP / np.abs(p).max())
+        if fresh and d is not None:
+            p = p + d * (NEG_SCALE * np.abs(p).max() / np.abs(d).max())
+            p *= min(1.0, MAX_STEP / np.abs(p).max())
         trial = z + p * prob.unit
         E1, g1, lv1 = prob.energy(trial)
         ok = np.isfinite(p).all() and accepted(E, g, E1, g1, p, prob.rounding)
@@ -169,6 +176,24 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
     return z, dict(fmax=fmax, iterations=steps, factorisations=factorisations,
                    evaluations=prob.evaluations, converged=fmax <= ftol, status=status,
                    seconds=prob.seconds)
+
+
+#: at a fresh factorisation of an indefinite H, the step adds a direction of negative
+#: curvature (:func:`negative_curvature`) this many times the Newton step's size: a
+#: ramp's levels leave their saddles in fewer steps (5 x 5 mm: 116 instead of 353 at
+#: s = 0.6), though a single level from the kicked isotropic start may take more
+NEG_SCALE = 3.0
+
+
+def negative_curvature(lu, g):
+    """A direction d of negative curvature of the matrix that ``lu`` factorised (SuperLU
+    with diagonal pivots and one symmetric permutation P: P A P^T = L U, U = D L^T): with v
+    the indicator of the negative pivots, d = P^T U^-1 v = A^-1 P^T L v, and d^T A d =
+    sum of 1 / D_kk over them < 0. Signed so that g.d <= 0."""
+    piv = lu.U.diagonal()
+    v = (piv < 0).astype(float)
+    d = lu.solve((lu.L @ v)[lu.perm_r])
+    return -d if g @ d > 0 else d
 
 
 def accepted(E, g, E1, g1, p, rounding):
