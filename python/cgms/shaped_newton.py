@@ -17,10 +17,10 @@ they make progress; where H is indefinite the step adds a direction of negative
 curvature that the factorisation gives for the cost of one solve. A step is taken when
 the energy falls (Armijo) or, once the change is below the energy's rounding (the Tait
 energy at fixed mass is a difference of large terms), when the largest force falls. The
-LJ pairs are found afresh (k-d tree) at every state, so nothing holds (n, n) arrays. Variables are scaled as ``relax`` scales them:
-positions in x_ref, the gradient in units of ``ftol``, so "converged" is the same test as
-relax's and LAMMPS's ``norm max``: every bead force and every dE/dF / x_ref at most
-``ftol`` (N).
+LJ pairs are found afresh (k-d tree) at every state, so nothing holds (n, n) arrays.
+Variables are scaled as ``relax`` scales them: positions in x_ref, the gradient in units
+of ``ftol``, so "converged" is the same test as relax's and LAMMPS's ``norm max``: every
+bead force and every dE/dF / x_ref at most ``ftol`` (N).
 """
 
 import math
