@@ -6,8 +6,10 @@
 level: the tissue's per-atom data by cgms.shaped_data.per_bead_local (the prototype's
 build holds (n, n) arrays), written with a kicked start at s (as shaped_tensor.ramp: beads
 and F shrunk by sqrt(s), F kicked by 1e-3), then ``minimize`` (cg, line forcezero) to a
-force tolerance or an iteration budget. Prints the build time, the minimisation's
-iterations, force evaluations, loop time and the largest force left.
+force tolerance or an iteration budget; the final state goes to <out>/final.dump (id, x,
+y, F at full precision; studies/shaped/newton_check.py compares it with
+cgms.shaped_newton). Prints the build time, the minimisation's iterations, force
+evaluations, loop time and the largest force left.
 
 Outputs go to --out (default /tmp/cgms-shaped-macro), never into the repository.
 
@@ -63,7 +65,10 @@ def main(argv=None):
         "neighbor 1.5e-5 bin", "neigh_modify every 1 delay 0 check yes",
         shaped_data.pair_style(s, BEST), f"pair_coeff * * {material.find('apple')}",
         "min_style cg", f"min_modify dmax 1e-6 norm max line {args.line}", "thermo 1000",
-        f"minimize 0 {args.ftol} {args.maxiter} {10 * args.maxiter}", ""])
+        f"minimize 0 {args.ftol} {args.maxiter} {10 * args.maxiter}",
+        "write_dump all custom final.dump id x y "
+        + " ".join(f"d2_shaped_F[{k}]" for k in range(1, 5))
+        + " modify sort id format float %.17g", ""])
     (args.out / "in.macro").write_text(text)
     cmd = [os.environ["CGMS_LMP"], "-in", "in.macro", "-log", "log.lammps", "-nocite",
            "-screen", "none"]

@@ -59,25 +59,31 @@ def _cof(F):
                      np.stack([-F[:, 0, 1], F[:, 0, 0]], -1)], 1)
 
 
-def build(xy0, mat, params=None, spacing=None):
+def build(xy0, mat, params=None, spacing=None, local=False):
     """Everything fixed for a tissue built at ``xy0``: the shaped model's topology, fresh
     fluid areas and rest lengths (:func:`cgms.shaped.build`, at beta = 1), plus each wall's
     fresh vector ``d0`` (edge e of cell ``cell[e]``), each cell's fresh polygon area, the
     fresh bonds with their vectors, and the compatibility maps: the mismatch is
-    ``Cx z - f Cf z``, f = beta(s) on rim bonds (both cells on the boundary), else 1."""
+    ``Cx z - f Cf z``, f = beta(s) on rim bonds (both cells on the boundary), else 1.
+    ``local``: the topology of :func:`cgms.shaped_local.base`, without (n, n) arrays (no
+    junction map, no LJ pair list: :mod:`cgms.shaped_newton` finds the near pairs)."""
     p = dict(DEFAULTS, **(params or {}))
-    geo = shaped.build(xy0, mat, {k: v for k, v in p.items() if k in shaped.DEFAULTS},
-                       spacing)
+    sub = {k: v for k, v in p.items() if k in shaped.DEFAULTS}
+    if local:
+        from . import shaped_local
+        geo = shaped_local.base(xy0, mat, sub, spacing)
+    else:
+        geo = shaped.build(xy0, mat, sub, spacing)
     x0 = geo["x0"]
     n = geo["n"]
-    J = (geo["M"] @ x0.ravel()).reshape(-1, 2)
-    a, b = J[geo["ja"]] - x0[geo["cell"]], J[geo["jb"]] - x0[geo["cell"]]
-    geo["d0"] = b - a
-    geo["poly_area0"] = 0.5 * np.bincount(geo["cell"], a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
-                                          minlength=n)
-    nb = np.triu(geo["topo"]["neighbours"])
-    bonds = np.argwhere(nb)
-    geo["bonds"] = bonds
+    if not local:
+        J = (geo["M"] @ x0.ravel()).reshape(-1, 2)
+        a, b = J[geo["ja"]] - x0[geo["cell"]], J[geo["jb"]] - x0[geo["cell"]]
+        geo["d0"] = b - a
+        geo["poly_area0"] = 0.5 * np.bincount(geo["cell"],
+                                              a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], minlength=n)
+        geo["bonds"] = np.argwhere(np.triu(geo["topo"]["neighbours"]))
+    bonds = geo["bonds"]
     geo["bond0"] = x0[bonds[:, 1]] - x0[bonds[:, 0]]
     geo["k_g"] = p["kg_ratio"] * p["wall_EA"] / mat["x_ref"]
     geo["kg_ratio"] = p["kg_ratio"]
@@ -116,7 +122,7 @@ def build(xy0, mat, params=None, spacing=None):
     if geo["dev_mean"]:
         geo["dev_weights"] = shaped_mean.bond_weights(geo["topo"]["neighbours"], bonds,
                                                       p["dev_hops"])
-    if p["void"]:
+    if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
     return geo
 
@@ -508,12 +514,15 @@ def relax(z, lev, ftol=1e-9, maxiter=500):
                     message=str(res.message))
 
 
-def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1):
+def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1, local=False,
+         solver=None):
     """Steady states along a drying ramp from the built tissue: each level starts from the
     previous state shrunk isotropically by sqrt(s / s_prev) (beads about their centroid,
     every F), every F kicked by a seeded uniform perturbation of up to ``kick`` (to leave
-    the symmetric saddle where no cell flattens). Returns (geometry, [(s, z, info)])."""
-    geo = build(xy0, mat, params)
+    the symmetric saddle where no cell flattens). ``local`` builds without (n, n) arrays
+    (:func:`build`); ``solver(z, lev, ftol)`` replaces :func:`relax` (e.g.
+    :func:`cgms.shaped_newton.newton`). Returns (geometry, [(s, z, info)])."""
+    geo = build(xy0, mat, params, local=local)
     rng = np.random.default_rng(seed)
     z = fresh_state(geo)
     n = geo["n"]
@@ -528,7 +537,7 @@ def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1):
         F = F * f
         if kick and s < 1:
             F = F + rng.uniform(-kick, kick, F.shape) * math.sqrt(s)
-        z, info = relax(join(x, F), lev, ftol)
+        z, info = (solver or relax)(join(x, F), lev, ftol)
         out.append((s, z, info))
         prev = s
     return geo, out

@@ -39,7 +39,8 @@ def dry(out, name, t, mat_file, mat, levels, args):
 
 
 #: the table's words for the methods (study.solved_by)
-SOLVERS = {"quasistatic": "FIRE", "newton": "Newton", "dynamics": "dynamics"}
+SOLVERS = {"quasistatic": "FIRE", "newton": "Newton", "dynamics": "dynamics",
+           "shaped-newton": "Newton (shaped)"}
 
 
 def solver_name(row):
@@ -125,6 +126,8 @@ def main_job(args):
 
 
 def study_job(args):
+    if args.model == "shaped":
+        return shaped_study_job(args)
     mat_file, mat = material_of(args)
     kept, left_out = levels_in_range(args, mat_file)
     t = chosen_tissue(args, mat)
@@ -136,6 +139,55 @@ def study_job(args):
         print_table(rows)
         pictures.study_pictures(out)
         print(f"\ncgms: results in {out}")
+    return 0
+
+
+#: options of the paper model's study that the shaped route does not take, with their
+#: defaults (a value other than the default is refused)
+SHAPED_REFUSED = {"method": ("--method", "quasistatic"), "fallback": ("--fallback", None),
+                  "start": ("--start", "built"), "set": ("--set", ""),
+                  "residual": ("--residual", 1e-3), "speed": ("--speed", 1e-3),
+                  "resume": ("--resume", False), "cv": ("--cv", 0.0)}
+
+
+def shaped_study_job(args):
+    """``study --model shaped``: the shaped tensor model (pair_style cgms/shaped's
+    physics, its default parameters) along a drying ramp over --dryness, each level solved
+    by Newton's method (cgms.shaped_newton) in this process; the same table and CSV."""
+    from .. import shaped_newton
+    for key, (option, default) in SHAPED_REFUSED.items():
+        if getattr(args, key) != default:
+            raise UsageError(f"{option} does not apply to --model shaped (Newton's method on "
+                             "the shaped model, each level from the previous one)")
+    mat_file, mat = material_of(args)
+    from .. import material
+    if mat_file.resolve() != material.find("apple").resolve():
+        raise UsageError(f"--material {args.material}: --model shaped has its parameters "
+                         "for apple only (doc/pair_cgms_shaped.rst, Default)")
+    kept, left_out = levels_in_range(args, mat_file)
+    kept = sorted(kept, reverse=True)        # a ramp: wettest first
+    t = chosen_tissue(args, mat)
+    if t["diameters"] is not None:
+        raise UsageError(f"{t['what']} gives cell diameters; --model shaped builds every cell "
+                         "from the bead lattice and takes none")
+    n = len(t["xy"])
+    with folders.claim(args.out, "study", False) as out:
+        if left_out:
+            print(left_out, flush=True)
+        print(f"cgms: tissue: {n} beads ({t['what']}), model shaped (Newton)", flush=True)
+
+        def progress(s, info):
+            print(f"cgms: s = {s:g}: {info['iterations']} Newton steps, largest force "
+                  f"{info['fmax']:.1e} N, {info['wall']:.1f} s", flush=True)
+
+        _, _, rows = shaped_newton.study(t["xy"], mat, kept, max_iterations=min(
+            args.max_steps, 10 ** 6), progress=progress)
+        for r in rows:
+            r["tissue"] = "tissue"
+            r["beads"] = n
+        write_summary(rows, out)
+        print_table(rows)
+        print(f"\ncgms: table {out}/summary-*.csv")
     return 0
 
 
@@ -161,6 +213,13 @@ def main_arguments(q):
 def study_arguments(q):
     common_arguments(q, "study")
     sweep_arguments(q)
+    q.add_argument("--model", choices=("paper", "shaped"), default="paper",
+                   help="paper: pair_style cgms, the paper's model (default); shaped: the "
+                        "coarse model with a shape tensor per cell (pair_style cgms/shaped's "
+                        "physics and defaults, doc/pair_cgms_shaped.rst), a drying ramp "
+                        "solved by Newton's method in Python (cgms.shaped_newton); it takes "
+                        "neither --method, --fallback, --start, --set, --residual, --speed, "
+                        "--resume nor --cv")
 
 
 def target_arguments(q):

@@ -1,0 +1,91 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""cgms.shaped_local and cgms.shaped_newton (the shaped model at scale) and the route
+``cgms study --model shaped``.
+
+The Newton steady state is checked against shaped_tensor.relax (the dense trust region)
+from the same kicked start. The symmetric saddle can be left towards mirror-image
+states (cells flattened along mirrored axes, the same energy), so the comparison is of
+what does not depend on the choice: the bead positions, each F's singular values and
+determinant. Tolerance, as test_shaped_minimize: near a strict minimum with smallest
+Hessian eigenvalue lambda (rigid motions removed), two states with scaled gradients
+g1, g2 lie within (|g1| + |g2|) / lambda of each other.
+"""
+
+import csv
+
+import numpy as np
+import pytest
+
+import shapedlmp as sl
+from cgms import cli, shaped_newton as sn, shaped_tensor as st, tissue
+from test_shaped_minimize import align, scaled_gradient_norm, start
+
+S = 0.6
+FTOL = 1e-11
+
+
+def test_local_build_is_the_dense_one():
+    """shaped_tensor.build(local=True) (no (n, n) arrays) gives the same fixed geometry."""
+    xy = tissue.rectangle(1.0e-3, 1.25e-3, sl.L)
+    for params in (sl.BEST, sl.OTHER):
+        a, b = st.build(xy, sl.MAT, params), st.build(xy, sl.MAT, params, local=True)
+        assert np.array_equal(a["cell"], b["cell"]) and np.array_equal(a["bonds"], b["bonds"])
+        assert np.array_equal(a["boundary"], b["boundary"])
+        # the same sums of the same terms in another order: rounding of the lattice's size
+        for key, size in (("d0", sl.L), ("poly_area0", sl.L ** 2), ("rest0", sl.L),
+                          ("A_f0", sl.L ** 2)):
+            assert np.abs(a[key] - b[key]).max() <= 64 * sl.EPS * size, key
+
+
+def test_newton_reaches_relax_steady_state():
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, sl.L)
+    geo = st.build(xy, sl.MAT, sl.BEST)
+    lev = st.at_level(geo, S)
+    n = geo["n"]
+    z0 = start(geo)
+    z_py, info_py = st.relax(z0, lev, ftol=FTOL, maxiter=2000)
+    z_nt, info = sn.newton(z0, st.at_level(st.build(xy, sl.MAT, sl.BEST, local=True), S),
+                           ftol=FTOL)
+    assert info_py["converged"] and info["converged"], info
+    assert max(st.forces(z_nt, lev)) <= FTOL       # the dense build's forces agree
+    z_nt = align(z_nt, z_py, n)
+    u = np.concatenate([np.full(2 * n, sl.L), np.ones(4 * n)])
+    w = np.linalg.eigvalsh(st.hessian(z_py, lev).toarray() * np.outer(u, u))
+    rigid = np.abs(w) < 1e-6 * w.max()
+    assert rigid.sum() == 3 and np.all(w[~rigid] > 0)
+    bound = (scaled_gradient_norm(z_nt, lev) + scaled_gradient_norm(z_py, lev)) / w[~rigid].min()
+    x_nt, F_nt = st.split(z_nt, n)
+    x_py, F_py = st.split(z_py, n)
+    assert np.linalg.norm((x_nt - x_py) / sl.L) <= bound
+    sv = np.linalg.svd(F_nt, compute_uv=False) - np.linalg.svd(F_py, compute_uv=False)
+    assert np.linalg.norm(sv) <= bound
+    assert np.linalg.norm(np.linalg.det(F_nt) - np.linalg.det(F_py)) \
+        <= 2 * np.abs(F_py).max() * bound
+
+
+def test_study_model_shaped_writes_its_table(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert cli.main(["study", "--model", "shaped", "--width", "0.5", "--height", "0.5",
+                     "--dryness", "1,0.6", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "Newton (shaped)" in text
+    (table,) = out.glob("summary-*.csv")
+    rows = list(csv.DictReader(table.open()))
+    assert [float(r["s"]) for r in rows] == [1.0, 0.6]
+    assert all(r["converged"] == "True" for r in rows)
+    assert float(rows[0]["A/A0"]) == 1.0 and 0.5 < float(rows[1]["A/A0"]) < 0.7
+    assert all(float(r["residual"]) <= 1e-9 for r in rows)
+
+
+@pytest.mark.parametrize("option", [["--method", "newton"], ["--start", "previous"],
+                                    ["--set", "k_S 0.5"], ["--fallback", "none"],
+                                    ["--material", "potato"]])
+def test_study_model_shaped_refuses_options_that_do_not_apply(tmp_path, capsys, option):
+    out = tmp_path / "out"
+    assert cli.main(["study", "--model", "shaped", "--width", "0.5", "--height", "0.5",
+                     "--out", str(out)] + option) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"cgms study: {option[0]}") and "--model shaped" in err
+    assert "\n" not in err and not out.exists()
