@@ -28,14 +28,15 @@ import numpy as np
 import scipy.sparse as sp
 
 
-def bond_weights(neighbours, bonds, hops):
+def bond_weights(n, bonds, hops):
     """w (b, n, sparse CSR): row ik the mean of the cells' uniform weights over their
-    neighbourhoods of ``hops`` steps in the fresh neighbour graph (``neighbours`` (n, n)
-    bool, symmetric)."""
+    neighbourhoods of ``hops`` steps in the fresh neighbour graph of the ``n`` cells, whose
+    edges are ``bonds`` (b, 2); sparse, so that it serves the local build at any size."""
     if hops < 0 or int(hops) != hops:
         raise ValueError(f"dev_hops must be a whole number >= 0, not {hops!r}")
-    n = len(neighbours)
-    step = sp.csr_matrix(np.asarray(neighbours, bool) | np.eye(n, dtype=bool), dtype=float)
+    ones = np.ones(len(bonds))
+    graph = sp.coo_matrix((ones, (bonds[:, 0], bonds[:, 1])), shape=(n, n))
+    step = sp.csr_matrix(((graph + graph.T + sp.identity(n)) > 0).astype(float))
     reach = sp.identity(n, format="csr")
     for _ in range(int(hops)):
         reach = (reach @ step).astype(bool).astype(float)

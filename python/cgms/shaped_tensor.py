@@ -120,8 +120,7 @@ def build(xy0, mat, params=None, spacing=None, local=False):
         geo["iso"] = np.where(edge, float(p["iso_rim"]), float(p["iso"]))
     geo["dev_mean"] = float(p["dev_mean"])
     if geo["dev_mean"]:
-        geo["dev_weights"] = shaped_mean.bond_weights(geo["topo"]["neighbours"], bonds,
-                                                      p["dev_hops"])
+        geo["dev_weights"] = shaped_mean.bond_weights(geo["n"], bonds, p["dev_hops"])
     if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
     return geo

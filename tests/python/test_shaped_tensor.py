@@ -327,4 +327,17 @@ def test_neighbourhood_weights():
     for b, (i, k) in enumerate(geo["bonds"]):
         np.testing.assert_array_equal(w[b] > 0, nbr[i] | nbr[k])
     with pytest.raises(ValueError, match="dev_hops"):
-        shaped_mean.bond_weights(geo["topo"]["neighbours"], geo["bonds"], 1.5)
+        shaped_mean.bond_weights(geo["n"], geo["bonds"], 1.5)
+
+
+def test_neighbourhood_weights_of_the_local_build():
+    """The local build (cgms.shaped_local, no (n, n) arrays) gives every bond the same
+    neighbourhood weights as the dense build; its bonds may come in another order."""
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, L)
+    dense, local = (st.build(xy, MAT, dict(dev_mean=0.5, dev_hops=2), local=flag)
+                    for flag in (False, True))
+    row = {tuple(sorted(b)): r for r, b in enumerate(local["bonds"])}
+    assert sorted(row) == sorted(tuple(sorted(b)) for b in dense["bonds"])
+    order = [row[tuple(sorted(b))] for b in dense["bonds"]]
+    np.testing.assert_array_equal(local["dev_weights"][order].toarray(),
+                                  dense["dev_weights"].toarray())
