@@ -3,8 +3,8 @@
 # This software is distributed under the GNU General Public License version 2;
 # see the LICENSE file in the top-level directory.
 """pair_style cgms/shaped on the paper's macroscale tissue (20 x 20 mm, 20 273 beads) at one
-level: the tissue's per-atom data by cgms.shaped_data.per_bead_local (the prototype's
-build holds (n, n) arrays), written with a kicked start at s (as shaped_tensor.ramp: beads
+level: the tissue's per-atom data by cgms.shaped_data.per_bead of the local build
+(shaped_tensor.build(local=True): no (n, n) arrays), written with a kicked start at s (as shaped_tensor.ramp: beads
 and F shrunk by sqrt(s), F kicked by 1e-3), then ``minimize`` (cg, line forcezero) to a
 force tolerance or an iteration budget; the final state goes to <out>/final.dump (id, x,
 y, F at full precision; studies/shaped/newton_check.py compares it with
@@ -31,7 +31,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "python"))
 
-from cgms import material, shaped_data, tissue  # noqa: E402
+from cgms import material, shaped_data, shaped_tensor, tissue  # noqa: E402
 from shaped_cost import BEST  # noqa: E402
 
 
@@ -51,7 +51,7 @@ def main(argv=None):
     L, s = mat["x_ref"], args.dryness
     xy = tissue.rectangle(args.size * 1e-3, args.size * 1e-3, L)
     t = time.time()
-    b = dict(shaped_data.per_bead_local(xy, L), n=len(xy))
+    b = dict(shaped_data.per_bead(shaped_tensor.build(xy, mat, local=True)), n=len(xy))
     build = time.time() - t
     rng = np.random.default_rng(1)
     c = xy.mean(axis=0)

@@ -36,68 +36,35 @@ KEYWORDS = dict(wall_EA="wall_EA", buckle="buckle", soft="soft", beta_a="beta_a"
                 void_onset="void_onset", smooth="smooth", iso="iso", strip="strip")
 
 
+def _slots(owner, n):
+    """The place of each entry within its owner's row, for entries sorted by owner: 0, 1,
+    ... per owner, and the row width."""
+    counts = np.bincount(owner, minlength=n)
+    first = np.cumsum(counts) - counts
+    return np.arange(len(owner)) - first[owner], int(counts.max(initial=0))
+
+
 def per_bead(geo):
-    """The fixed per-bead arrays of a built tissue (:func:`cgms.shaped_tensor.build`):
-    dict with nb (n, NB) IDs, bondx, bondy (n, NB), wallx, wally (n, NW), nwall, area0,
-    boundary."""
-    n = geo["n"]
-    x0 = geo["x0"]
-    nbr = [np.flatnonzero(row) for row in geo["topo"]["neighbours"]]
-    walls = [np.flatnonzero(geo["cell"] == i) for i in range(n)]
-    NB = max(len(k) for k in nbr)
-    NW = max(len(e) for e in walls)
+    """The fixed per-bead arrays of a built tissue (:func:`cgms.shaped_tensor.build`, dense
+    or ``local=True``): dict with nb (n, NB) IDs in increasing order, bondx, bondy (n, NB),
+    wallx, wally (n, NW) in ring order, nwall, area0, boundary. Vectorised, so that the
+    macroscale tissue's data take a fraction of a second."""
+    n, x0 = geo["n"], geo["x0"]
+    pairs = np.concatenate([geo["bonds"], geo["bonds"][:, ::-1]])
+    pairs = pairs[np.lexsort((pairs[:, 1], pairs[:, 0]))]
+    slot, NB = _slots(pairs[:, 0], n)
+    walls = np.argsort(geo["cell"], kind="stable")     # ring order kept within a cell
+    wslot, NW = _slots(geo["cell"][walls], n)
     out = dict(nb=np.zeros((n, NB), dtype=np.int64), bondx=np.zeros((n, NB)),
                bondy=np.zeros((n, NB)), wallx=np.zeros((n, NW)), wally=np.zeros((n, NW)),
-               nwall=np.array([len(e) for e in walls]),
+               nwall=np.bincount(geo["cell"], minlength=n),
                area0=np.asarray(geo["poly_area0"], float),
                boundary=np.asarray(geo["boundary"], dtype=int))
-    for i in range(n):
-        k, e = nbr[i], walls[i]
-        out["nb"][i, :len(k)] = k + 1
-        out["bondx"][i, :len(k)], out["bondy"][i, :len(k)] = (x0[k] - x0[i]).T
-        out["wallx"][i, :len(e)], out["wally"][i, :len(e)] = geo["d0"][e].T
-    return out
-
-
-def per_bead_local(xy, spacing, cutoff=None):
-    """:func:`per_bead` of the tissue built at ``xy`` (n, 2) without its (n, n) arrays:
-    each bead's ring, walls and fresh polygon from :func:`cgms.shaped.topology` and
-    :func:`cgms.shaped.junction_map` on the patch of the bead and its neighbours (its ring
-    needs only their positions and which of them neighbour each other), so that a tissue
-    of 10^4-10^5 beads fits in memory. The same numbers as :func:`per_bead` to rounding (a patch sums a junction's
-    terms in another order)."""
-    from scipy.spatial import cKDTree
-
-    from . import shaped
-    xy = np.asarray(xy, float)
-    cutoff = shaped.CUTOFF if cutoff is None else cutoff
-    tree = cKDTree(xy)
-    rows = []
-    for i in range(len(xy)):
-        patch = np.array(sorted(tree.query_ball_point(xy[i], 1.01 * cutoff * spacing)))
-        topo = shaped.topology(xy[patch], spacing, cutoff)
-        M, cell, ja, jb, ghost = shaped.junction_map(topo, 1.0)
-        me = int(np.flatnonzero(patch == i)[0])
-        x = xy[patch]
-        J = (M @ x.ravel()).reshape(-1, 2)
-        e = np.flatnonzero(cell == me)
-        a, b = J[ja[e]] - x[me], J[jb[e]] - x[me]
-        k = np.flatnonzero(topo["neighbours"][me])
-        rows.append(dict(nb=patch[k] + 1, bond=xy[patch[k]] - xy[i], wall=b - a,
-                         area0=0.5 * np.sum(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]),
-                         boundary=int(ghost[e].any())))
-    n, NB = len(xy), max(len(r["nb"]) for r in rows)
-    NW = max(len(r["wall"]) for r in rows)
-    out = dict(nb=np.zeros((n, NB), dtype=np.int64), bondx=np.zeros((n, NB)),
-               bondy=np.zeros((n, NB)), wallx=np.zeros((n, NW)), wally=np.zeros((n, NW)),
-               nwall=np.array([len(r["wall"]) for r in rows]),
-               area0=np.array([r["area0"] for r in rows]),
-               boundary=np.array([r["boundary"] for r in rows]))
-    for i, r in enumerate(rows):
-        m, w = len(r["nb"]), len(r["wall"])
-        out["nb"][i, :m] = r["nb"]
-        out["bondx"][i, :m], out["bondy"][i, :m] = r["bond"].T
-        out["wallx"][i, :w], out["wally"][i, :w] = r["wall"].T
+    i, k = pairs[:, 0], pairs[:, 1]
+    out["nb"][i, slot] = k + 1
+    out["bondx"][i, slot], out["bondy"][i, slot] = (x0[k] - x0[i]).T
+    owner = geo["cell"][walls]
+    out["wallx"][owner, wslot], out["wally"][owner, wslot] = geo["d0"][walls].T
     return out
 
 

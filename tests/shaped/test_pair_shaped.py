@@ -92,16 +92,27 @@ def test_every_branch_matches_the_oracle(tmp_path):
 
 
 def test_the_local_builder_gives_the_prototypes_data():
-    """cgms.shaped_data.per_bead_local (patches, for large tissues) against per_bead (the
-    prototype's whole-tissue build), on the calibration tissue and an irregular one."""
+    """cgms.shaped_data.per_bead of the local build (shaped_tensor.build(local=True), for
+    large tissues) against that of the prototype's whole-tissue build, on the calibration
+    tissue and an irregular one: the same IDs and fresh bonds; wall vectors and polygon
+    areas to rounding (a junction is placed by sums in another order: a few ulps of the
+    coordinates, so 16 eps |x| per wall end and, for an area, that times the walls'
+    length from the centre, 2 ends and up to NW walls)."""
     from cgms import tissue
     jittered = tissue.rectangle(1e-3, 0.8e-3, sl.L)
     jittered = jittered + np.random.default_rng(2).uniform(-0.1, 0.1, jittered.shape) * sl.L
+    eps = np.finfo(float).eps
     for xy in (sl.calibration_tissue(sl.BEST)[0], jittered):
-        geo = st.build(xy, sl.MAT, sl.BEST)
-        whole, local = shaped_data.per_bead(geo), shaped_data.per_bead_local(xy, sl.L)
-        for key in whole:
+        whole = shaped_data.per_bead(st.build(xy, sl.MAT, sl.BEST))
+        local = shaped_data.per_bead(st.build(xy, sl.MAT, sl.BEST, local=True))
+        assert set(whole) == set(local)
+        for key in ("nb", "bondx", "bondy", "nwall", "boundary"):
             assert np.array_equal(whole[key], local[key]), key
+        wall = 16 * eps * np.abs(xy).max()
+        for key in ("wallx", "wally"):
+            np.testing.assert_allclose(local[key], whole[key], rtol=0, atol=2 * wall)
+        reach = 2 * sl.L * 2 * whole["wallx"].shape[1]
+        np.testing.assert_allclose(local["area0"], whole["area0"], rtol=0, atol=wall * reach)
 
 
 @pytest.mark.lammps
