@@ -71,12 +71,24 @@ def test_study_model_shaped_writes_its_table(tmp_path, capsys):
                      "--dryness", "1,0.6", "--out", str(out)]) == 0
     text = capsys.readouterr().out
     assert "Newton (shaped)" in text
+    assert "takes long" not in text      # a small tissue gets no note on its size
     (table,) = out.glob("summary-*.csv")
     rows = list(csv.DictReader(table.open()))
     assert [float(r["s"]) for r in rows] == [1.0, 0.6]
     assert all(r["converged"] == "True" for r in rows)
     assert float(rows[0]["A/A0"]) == 1.0 and 0.5 < float(rows[1]["A/A0"]) < 0.7
     assert all(float(r["residual"]) <= 1e-9 for r in rows)
+
+
+def test_study_model_shaped_names_the_faster_route_for_a_large_tissue(tmp_path, capsys,
+                                                                     monkeypatch):
+    """Above SHAPED_LARGE beads (lowered here to the tiny tissue's size) the route says that
+    Newton takes long and names LAMMPS minimize, before it starts."""
+    from cgms.cli import study
+    monkeypatch.setattr(study, "SHAPED_LARGE", 10)
+    assert cli.main(["study", "--model", "shaped", "--width", "0.5", "--height", "0.5",
+                     "--dryness", "1", "--out", str(tmp_path / "out")]) == 0
+    assert "takes long" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize("option", [["--method", "newton"], ["--start", "previous"],

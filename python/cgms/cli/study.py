@@ -150,6 +150,11 @@ SHAPED_REFUSED = {"method": ("--method", "quasistatic"), "fallback": ("--fallbac
                   "resume": ("--resume", False), "cv": ("--cv", 0.0)}
 
 
+#: beads above which the shaped route says that LAMMPS is the faster way (1273 beads take
+#: about a minute for five levels; the cost grows faster than the bead count)
+SHAPED_LARGE = 5000
+
+
 def shaped_study_job(args):
     """``study --model shaped``: the shaped tensor model (pair_style cgms/shaped's
     physics, its default parameters) along a drying ramp over --dryness, each level solved
@@ -175,6 +180,10 @@ def shaped_study_job(args):
         if left_out:
             print(left_out, flush=True)
         print(f"cgms: tissue: {n} beads ({t['what']}), model shaped (Newton)", flush=True)
+        if n > SHAPED_LARGE:
+            print(f"cgms: note: Newton's method on {n} beads takes long (20 273 beads: 24 min "
+                  "for one level); LAMMPS minimize with pair_style cgms/shaped solves a level "
+                  "of that tissue in about a minute (doc/using.md)", flush=True)
 
         def progress(s, info):
             print(f"cgms: s = {s:g}: {info['iterations']} Newton steps, largest force "
