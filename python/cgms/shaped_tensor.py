@@ -29,7 +29,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from . import model, shaped, shaped_mean
+from . import model, shaped, shaped_mean, superpose
 
 #: parameters beyond cgms.shaped.DEFAULTS: kg_ratio, the lamella's compatibility stiffness
 #: k_g in units of the wall's stretch stiffness EA / x_ref; the gap law between the cells'
@@ -167,6 +167,16 @@ def split(z, n):
 
 def join(x, F):
     return np.concatenate([np.ravel(x), np.ravel(F)])
+
+
+def align(z, ref):
+    """State ``z`` moved rigidly onto the positions of ``ref`` (a steady state is one up to
+    a rigid motion): x -> R x + t, and every F -> R F (:func:`cgms.superpose.rotation`)."""
+    n = len(z) // 6
+    x, F = split(z, n)
+    xr, _ = split(ref, n)
+    R = superpose.rotation(x, xr)
+    return join(superpose.align(x, xr, "rigid"), np.einsum("ab,nbc->nac", R, F))
 
 
 def fresh_state(geo):

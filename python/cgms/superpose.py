@@ -25,12 +25,20 @@ def align(p, q, mode="translation"):
         return p
     pc, qc = p - p.mean(axis=0), q.mean(axis=0)
     if mode == "rigid":
-        qq = q - qc
-        angle = math.atan2(np.sum(pc[:, 0] * qq[:, 1] - pc[:, 1] * qq[:, 0]),
-                           np.sum(pc * qq))
-        c, s = math.cos(angle), math.sin(angle)
-        pc = pc @ np.array([[c, s], [-s, c]])
+        pc = pc @ rotation(p, q).T
     return pc + qc
+
+
+def rotation(p, q):
+    """R (2, 2): the rotation about the centroids that brings ``p`` closest to ``q`` (2-D
+    Kabsch), the one :func:`align` applies with ``"rigid"``; e.g. for a shaped state, whose
+    cells' F turn with it."""
+    p = np.asarray(p, float)
+    q = np.asarray(q, float)
+    pc, qq = p - p.mean(axis=0), q - q.mean(axis=0)
+    angle = math.atan2(np.sum(pc[:, 0] * qq[:, 1] - pc[:, 1] * qq[:, 0]), np.sum(pc * qq))
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s], [s, c]])
 
 
 def rmsd(p, q, mode="translation"):

@@ -30,16 +30,6 @@ from cgms import material, shaped_newton as sn, shaped_tensor as st, tissue  # n
 from cgmstest import read_dump  # noqa: E402
 
 
-def align(z, ref, n):
-    """z moved rigidly (x -> R x + t, F -> R F) onto ref's positions (least squares)."""
-    x, F = st.split(z, n)
-    xr, _ = st.split(ref, n)
-    c, cr = x.mean(axis=0), xr.mean(axis=0)
-    u, _, vt = np.linalg.svd((x - c).T @ (xr - cr))
-    R = (u @ vt).T
-    return st.join((x - c) @ R.T + cr, np.einsum("ab,nbc->nac", R, F))
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--size", type=float, default=5.0, help="tissue side (mm)")
@@ -63,9 +53,9 @@ def main(argv=None):
           f"largest force {info['fmax']:.2e} N, {time.time() - t:.1f} s wall, "
           f"{time.process_time() - cpu:.1f} s CPU, {info['status']}")
     d = read_dump(args.dump)
-    z_lmp = align(st.join(np.c_[d["x"], d["y"]],
-                          np.stack([d[f"d2_shaped_F[{k}]"] for k in range(1, 5)], axis=1)),
-                  z_nt, n)
+    z_lmp = st.align(st.join(np.c_[d["x"], d["y"]],
+                             np.stack([d[f"d2_shaped_F[{k}]"] for k in range(1, 5)], axis=1)),
+                     z_nt)
     prob = sn.Problem(lev, args.ftol)
     g_nt, lv = prob.energy(z_nt)[1:]
     g_lmp = prob.energy(z_lmp)[1]

@@ -58,16 +58,6 @@ def scaled_gradient_norm(z, lev):
     return np.linalg.norm(g * np.concatenate([np.full(2 * n, sl.L), np.ones(4 * n)]))
 
 
-def align(z, ref, n):
-    """z moved rigidly (x -> R x + t, F -> R F) onto ref's positions (least squares)."""
-    x, F = st.split(z, n)
-    xr, _ = st.split(ref, n)
-    c, cr = x.mean(axis=0), xr.mean(axis=0)
-    u, _, vt = np.linalg.svd((x - c).T @ (xr - cr))
-    R = (u @ vt).T
-    return st.join((x - c) @ R.T + cr, np.einsum("ab,nbc->nac", R, F))
-
-
 @pytest.mark.lammps
 def test_minimize_reaches_the_oracles_steady_state(tmp_path):
     xy = tissue.rectangle(0.75e-3, 0.75e-3, sl.L)
@@ -76,11 +66,11 @@ def test_minimize_reaches_the_oracles_steady_state(tmp_path):
     n = geo["n"]
     z0 = start(geo)
     proc = sl.run(tmp_path, geo, z0, S, sl.BEST, sl.APPLE, commands=MINIMIZE)
-    z_lmp = align(sl.read_state(tmp_path / "state.dump")[0], z0, n)
+    z_lmp = st.align(sl.read_state(tmp_path / "state.dump")[0], z0)
     z_py, info = st.relax(z0, lev, ftol=FTOL, maxiter=2000)
     assert info["converged"], info
     assert max(st.forces(z_lmp, lev)) < 10 * FTOL, proc.stdout[-2000:]
-    z_lmp = align(z_lmp, z_py, n)
+    z_lmp = st.align(z_lmp, z_py)
 
     u = np.concatenate([np.full(2 * n, sl.L), np.ones(4 * n)])
     w = np.linalg.eigvalsh(st.hessian(z_py, lev).toarray() * np.outer(u, u))
