@@ -140,20 +140,23 @@ def steady_spacing(mat, s):
 
 
 def write(path, source, values, note="", overwrite=False, contributor="cgms calibrate",
-          model="cgms"):
+          model="cgms", origin=None, mark="fitted (start {old:.6g})"):
     """A new material file: ``source`` (a file of ``potentials/``) with ``values``
     ({name: value}) replacing its own, marked as fitted, under a header saying how it was
     made. Names absent from ``source`` are appended. An existing ``path`` is kept unless
     ``overwrite`` (FileExistsError). The file is read back and checked. Its first line
     carries ``MODEL: <model>``, the pair style the values were fitted for (cgms.calibrate
-    fits pair_style cgms): the plugin's other styles refuse the file."""
+    fits pair_style cgms): the plugin's other styles refuse the file. ``origin``: the
+    header's second line (default: calibrated from ``source``); ``mark``: the comment on a
+    replaced value, a format of ``old`` (``source``'s value) and ``source`` (its name). The
+    source's own ``# DATE:`` and ``# TEMPERATURE:`` lines are kept as its header's."""
     source = find(source)
     lines = source.read_text().splitlines()
     old = read(source)
     left = dict(values)
     body = []
     for raw in lines:
-        if raw.startswith("# DATE:"):
+        if raw.startswith(("# DATE:", "# TEMPERATURE:")):
             body.append("# (start file header) " + raw[2:])
             continue
         words = raw.split("#", 1)[0].split()
@@ -162,7 +165,8 @@ def write(path, source, values, note="", overwrite=False, contributor="cgms cali
             v = left.pop(name)
             comment = raw.split("#", 1)[1].strip() if "#" in raw else ""
             width = max(len(name), 13)
-            body.append(f"{name:<{width}} {v!r:<9} # fitted (start {old[name]:.6g})"
+            body.append(f"{name:<{width}} {v!r:<9} # "
+                        + mark.format(old=old[name], source=source.name)
                         + (f"; {comment}" if comment else ""))
         else:
             body.append(raw)
@@ -170,7 +174,7 @@ def write(path, source, values, note="", overwrite=False, contributor="cgms cali
         body.append(f"{name:<13} {v!r:<9} # fitted (not in {source.name})")
     header = [f"# DATE: {date.today().isoformat()} UNITS: si CONTRIBUTOR: {contributor} "
               f"MODEL: {model}",
-              f"# Calibrated by cgms.calibrate from {source.name}:"]
+              "# " + (origin or f"Calibrated by cgms.calibrate from {source.name}:")]
     words, line = note.split(), "#"
     for w in words:
         if len(line) + len(w) + 1 > 92:

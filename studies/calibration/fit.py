@@ -46,6 +46,7 @@ saying how it was made.
 """
 
 import argparse
+import json
 import math
 import subprocess
 import sys
@@ -130,6 +131,13 @@ def main(argv=None):
     ap.add_argument("--install-fit", choices=("kS", "paper"), default="kS",
                     help="which fit --install writes: kS (default) or the last paper-<n> "
                          "fit, without k_S (when k_S is not determined)")
+    ap.add_argument("--temperature", type=float,
+                    help="with --install: the temperature (C) of an MFC reference made "
+                         "without one (the unheated reference stands for 20 C: "
+                         "doc/drying.md); a reference made with python3 -m cgms mfc "
+                         "--temperature has its own in setup.json, which this must match. "
+                         "Written as the installed header's '# TEMPERATURE:' line, which "
+                         "cgms.temperature reads")
     ap.add_argument("--without-kS", action="store_true",
                     help="skip the kS stage (with --install-fit paper: k_S already shown "
                          "not to be determined, and the stage costs as much as the fit)")
@@ -154,6 +162,7 @@ def main(argv=None):
         sys.exit(f"fit.py: no reference {', '.join(missing)}")
     if len(refs) < 2 or 1.0 not in refs:
         sys.exit(f"fit.py: need centroids.s1.txt and at least one dried level in {args.mfc}")
+    heat = reference_temperature(args.mfc, args.temperature)
     from cgms import material
     start_material = material.read(material.find(args.material))
     target = Path(f"potentials/{args.install_as or Path(args.material).stem + '-mfc'}.cgms")
@@ -225,16 +234,40 @@ def main(argv=None):
                 + (f" --hold {args.hold}" if args.hold else "")
                 + (f" --lj-slope {args.lj_slope!r}" if args.lj_slope is not None else "")
                 + (f" --start {args.start}" if args.start != "built" else "")
+                + (f" --temperature {args.temperature:g}" if args.temperature is not None
+                   else "")
                 + f" --install --install-fit {args.install_fit}"
                 + (" --without-kS" if args.without_kS else "") + " (fit "
                 + (f"'paper-{len(levels)}'" if args.install_fit == "paper" else "'kS'")
                 + f", commit {commit})",
                 f"# References: MFC centroids in {args.mfc} "
                 "(reference/mfc/README.md)"]
+        if heat:   # the levels fitted are the ones it holds for (cgms.study.valid_range)
+            made += [f"# TEMPERATURE: {heat}",
+                     f"# VALID FOR {min(levels):g} <= s <= 1 (the levels fitted)"]
         with open(target, "x") as fh:
             fh.write("\n".join(lines[:2] + made + lines[2:]) + "\n")
         print(f"fit.py: wrote {target}")
     return 0
+
+
+def reference_temperature(folder, given):
+    """The header text after '# TEMPERATURE: ' for an MFC reference ``folder``: its own
+    temperature (setup.json of python3 -m cgms mfc --temperature) or ``given`` (C) for one
+    made unheated; None for neither. Exits on a ``given`` that contradicts the folder's."""
+    setup = Path(folder) / "setup.json"
+    p = json.loads(setup.read_text())["parameters"] if setup.is_file() else {}
+    if p.get("temperature") is None:
+        if given is None:
+            return None
+        return (f"{given:g} C (the MFC reference {folder} is unheated, the material's "
+                f"values, which stand for {given:g} C; doc/drying.md)")
+    if given is not None and given != p["temperature"]:
+        sys.exit(f"fit.py: --temperature {given:g}: the reference {folder} was made at "
+                 f"{p['temperature']:g} C (its setup.json)")
+    return (f"{p['temperature']:g} C (the MFC reference {folder} made at "
+            f"{p['temperature']:g} C: wall factor {p['wall_factor']:.4g}, turgor factor "
+            f"{p['turgor_factor']:.4g}; doc/drying.md)")
 
 
 def report(name, n, r):

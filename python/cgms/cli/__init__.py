@@ -12,15 +12,15 @@ a list of cell centroids, one 'id x y' line each, in metres.
 This package is the top of cgms: it parses options, checks them before anything is
 created, and turns every error into one line on stderr; no library module imports it.
 One module per command (study: main, study, target; tissue; calibrate; sensitivity; dry;
-mfc), with the options they share (options), the tissue of the options (tissues) and
-the one-line errors (errors)."""
+mfc; material), with the options they share (options), the tissue of the options
+(tissues) and the one-line errors (errors)."""
 
 import argparse
 import os
 import sys
 
 from .. import parallel
-from . import calibrate, dry, mfc, sensitivity, study, tissue
+from . import calibrate, dry, material, mfc, sensitivity, study, tissue
 from .errors import failure
 from .options import UsageError
 
@@ -39,6 +39,7 @@ COMMANDS = {
     "tissue": ("build a tissue data file (python3 -m cgms.tissue)", tissue.arguments, tissue.job),
     "dry": ("dry a tissue slice in air over time (doc/drying.md)", dry.add_arguments, dry.job),
     "mfc": (mfc.HELP, mfc.arguments, mfc.main),
+    "material": (material.HELP, material.arguments, material.job),
 }
 
 
