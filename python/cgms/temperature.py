@@ -77,8 +77,8 @@ def bracket(temperature, family="apple-mfc"):
             f"lost as a step that no line carries); {family} is calibrated at {said}: pick a "
             "temperature on one side, or calibrate one nearer (doc/drying.md)")
     raise ValueError(f"no coarse parameters at {T:g} C: outside the calibrated range "
-                     f"{known[0]:g}-{known[-1]:g} C ({family} is calibrated at {said}; "
-                     "no extrapolation), or calibrate there (doc/drying.md)")
+                     f"{known[0]:g}-{known[-1]:g} C ({family} is calibrated at {said}), "
+                     "which is not extrapolated: calibrate there (doc/drying.md)")
 
 
 def at_temperature(temperature, family="apple-mfc"):

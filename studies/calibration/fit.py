@@ -232,6 +232,7 @@ def main(argv=None):
                 f"--mfc {args.mfc} --out {args.out} --levels {args.levels}"
                 + (f" --also {args.also}" if args.also else "")
                 + (f" --hold {args.hold}" if args.hold else "")
+                + (" --direct" if args.direct else "")
                 + (f" --lj-slope {args.lj_slope!r}" if args.lj_slope is not None else "")
                 + (f" --start {args.start}" if args.start != "built" else "")
                 + (f" --temperature {args.temperature:g}" if args.temperature is not None
