@@ -5,7 +5,7 @@
 CLI's own terms (issue 26, "Messages that blame the wrong cause"; doc/errors.md).
 
 Every invocation below is a bad or odd input to `study`, `target`, `sensitivity`,
-`calibrate`, `tissue` or `mfc` (`dry` has its own tests). Each must end with a non-zero
+`calibrate`, `tissue`, `mfc` or `material` (`dry` has its own tests). Each must end with a non-zero
 exit, one message line on stderr (argparse's usage lines aside) holding the words that
 name the cause, no traceback, and no half-written folder: an input refused before a run
 creates nothing, and a run LAMMPS stops leaves whole files only (no temporary file), with
@@ -132,6 +132,11 @@ REFUSED = [
     ("mfc --temperature -1 --out o", "--temperature must be in 0 .. 100 (C"),
     ("mfc --temperature nan --out o", "--temperature must be in 0 .. 100 (C"),
     ("mfc --temperature warm --out o", "argument --temperature: invalid float value"),
+    # the coarse parameters at a temperature
+    ("material --temperature 55 --out o", "55 C: it lies across the membrane window"),
+    ("material --temperature 150 --out o", "150 C: outside the calibrated range"),
+    ("material --temperature nan --out o", "must be a number of degrees C"),
+    ("material --temperature 40 --family nosuch --out o", "no calibrated material nosuch-T"),
 ]
 
 #: stops found by LAMMPS on a small tissue, each quick (before or at the first steps)
