@@ -10,7 +10,8 @@ parameters at a temperature"). From the repository root, after ``source build/en
 
 For each material, the CGMS steady states of the 86-bead calibration tissue at the levels
 (as the fit solves them: FIRE, else the dynamics; ``cgms.study.relax_or_fallback``), and
-for each pair (material, reference) the RMSD of eqn (2), rigid motion removed, per level:
+for each pair (material, reference) the RMSD of eqn (2), rigid motion removed, per level
+the reference has:
 the cross table that says whether a material fitted at one temperature is worse at
 another than that temperature's own fit. Also each reference's and each material's tissue
 shape (A/A0, P/P0, EL/EL0; the outline's longest edge 2.0 x the median bead spacing, which
@@ -74,9 +75,11 @@ def main(argv=None):
     reference = {}
     for name, folder in refs.items():
         reference[name] = {}
-        for s in levels:
-            ids, xy = positions.read_centroids(Path(folder) / f"centroids.s{s:g}.txt")
-            reference[name][s] = xy[np.argsort(ids)]
+        for s in levels:   # a level the reference lacks is left out of its columns
+            path = Path(folder) / f"centroids.s{s:g}.txt"
+            if path.is_file():
+                ids, xy = positions.read_centroids(path)
+                reference[name][s] = xy[np.argsort(ids)]
     steady, methods = {}, {}
     for name, path in mats.items():
         steady[name], methods[name] = {}, {}
@@ -87,7 +90,7 @@ def main(argv=None):
             methods[name][s] = run.get("method", "") + (" (fallback)" if note else "")
     x_ref = material.read("apple")["x_ref"]
     rmsd = {m: {r: {s: superpose.rmsd(steady[m][s], reference[r][s], "rigid")
-                    for s in levels} for r in refs} for m in mats}
+                    for s in reference[r]} for r in refs} for m in mats}
     result = dict(levels=levels, materials=mats, references=refs, methods=methods,
                   rmsd_um={m: {r: {f"{s:g}": v * 1e6 for s, v in row.items()}
                                for r, row in rr.items()} for m, rr in rmsd.items()},
@@ -101,14 +104,16 @@ def main(argv=None):
           "s = " + " / ".join(f"{s:g}" for s in levels))
     print("| material | " + " | ".join(refs) + " |")
     for m in mats:
-        print(f"| {m} | " + " | ".join(" / ".join(f"{rmsd[m][r][s] * 1e6:.2f}" for s in levels)
+        print(f"| {m} | " + " | ".join(" / ".join(f"{rmsd[m][r][s] * 1e6:.2f}"
+                                                  if s in rmsd[m][r] else "-" for s in levels)
                                      for r in refs) + " |")
     print("\nshape (A/A0, P/P0, EL/EL0) at s = " + ", ".join(f"{s:g}" for s in levels if s < 1))
     for kind, table in (("MFC", result["reference_shape"]), ("CGMS", result["cgms_shape"])):
         for name, row in table.items():
             print(f"| {kind} {name} | " + " | ".join(
                 f"{row[f'{s:g}']['A/A0']:.4f}, {row[f'{s:g}']['P/P0']:.4f}, "
-                f"{row[f'{s:g}']['EL/EL0']:.4f}" for s in levels if s < 1) + " |")
+                f"{row[f'{s:g}']['EL/EL0']:.4f}" if f"{s:g}" in row else "-"
+                for s in levels if s < 1) + " |")
     return 0
 
 
