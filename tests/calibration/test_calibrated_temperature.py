@@ -8,14 +8,16 @@ linearly in 1/T between two on one side of the membrane window (computed here by
 and refuses a temperature across the window or outside the calibrated ones, in one line
 from the CLI."""
 
+import json
 import math
 import re
 import sys
 
+import numpy as np
 import pytest
 
-from cgms import cli, material, study, temperature
-from cgmstest import ROOT
+from cgms import cli, material, positions, study, superpose, temperature, tissue
+from cgmstest import ROOT, XREF, require_lammps
 
 sys.path.insert(0, str(ROOT / "studies" / "calibration"))
 import fit  # noqa: E402
@@ -80,6 +82,60 @@ def test_committed_file_loads_with_tag_temperature_and_range(path):
     p = material.read(path)
     for name in ("k_T", "k_PA", "beta_a", "beta_b", "turgid_ratio"):
         assert p[name] > 0
+
+
+def own_header(path):
+    """A file's own header: its comment lines above the start material's copied header."""
+    text = " ".join(line[1:] for line in path.read_text().splitlines() if line.startswith("#"))
+    return text.split("(start file header)")[0]
+
+
+@pytest.mark.parametrize("path", COMMITTED, ids=lambda p: p.name)
+def test_committed_file_matches_its_reference(path):
+    """The reference the header names holds the fitted levels, and was made at the header's
+    temperature (its setup.json; the unheated set, which has none, stands for 20 C)."""
+    folder = re.search(r"References: MFC centroids in (\S+)", own_header(path)).group(1)
+    folder = ROOT / folder
+    setup = folder / "setup.json"
+    made_at = (json.loads(setup.read_text())["parameters"].get("temperature")
+               if setup.is_file() else None)
+    assert (made_at if made_at is not None else 20.0) == temperature.temperature_of(path)
+    for s in (1, 0.8, 0.6):
+        assert (folder / f"centroids.s{s:g}.txt").is_file()
+
+
+@pytest.fixture(scope="module")
+def steady(tmp_path_factory):
+    """The 86-bead calibration tissue's steady states with each committed file at s = 1,
+    0.8, 0.6, solved as the fit solved them (FIRE, else the dynamics)."""
+    require_lammps()
+    folder = tmp_path_factory.mktemp("temperature")
+    data = folder / "tissue.data"
+    tissue.write_data(data, tissue.rectangle(1.25e-3, 1.5e-3, XREF), 3 * XREF)
+    out = {}
+    for path in COMMITTED:
+        for s in (1.0, 0.8, 0.6):
+            run, note = study.relax_or_fallback(data, path, s, folder / path.stem)
+            assert run["converged"], (path.name, s, note)
+            out[path, s] = run["xy"]
+    return out
+
+
+@pytest.mark.parametrize("path", COMMITTED, ids=lambda p: p.name)
+def test_committed_file_reproduces_the_rmsd_in_its_header(steady, path):
+    """The header quotes the fit's RMSD per level against its reference; a fresh run of the
+    file gives it again (the file holds what was fitted, against the data committed). The
+    header prints 4 digits; the steady states are solved to 1e-13 N (FIRE) or the
+    dynamics' residual, far inside 1e-3 of an RMSD of microns."""
+    head = own_header(path)
+    folder = ROOT / re.search(r"References: MFC centroids in (\S+)", head).group(1)
+    quoted = re.findall(r"([0-9.eE+-]+)\s+m\s+\([0-9.eE+-]+\s+x_ref\)\s+at\s+s\s+=\s+([0-9.]+)",
+                        head)
+    assert {float(s) for _, s in quoted} == {1.0, 0.8, 0.6}
+    for r, s in quoted:
+        ids, q = positions.read_centroids(folder / f"centroids.s{float(s):g}.txt")
+        got = superpose.rmsd(steady[path, float(s)], q[np.argsort(ids)], "rigid")
+        assert got == pytest.approx(float(r), rel=1e-3), s
 
 
 def test_committed_files_reproduced_at_their_temperatures():
