@@ -71,8 +71,11 @@ def bracket(temperature, family="apple-mfc"):
     if not math.isfinite(T):
         raise ValueError(f"temperature must be a number of degrees C, got {temperature!r}")
     if known[0] < T < known[-1]:
+        below = max(t for t in known if t < T)
+        above = min(t for t in known if t > T)
         raise ValueError(
-            f"no coarse parameters at {T:g} C: it lies across the membrane window "
+            f"no coarse parameters at {T:g} C: the calibrated temperatures nearest it, "
+            f"{below:g} and {above:g} C, lie across the membrane window "
             f"({HEAT['membrane_onset']:g}-{HEAT['membrane_gone']:g} C, where the turgor is "
             f"lost as a step that no line carries); {family} is calibrated at {said}: pick a "
             "temperature on one side, or calibrate one nearer (doc/drying.md)")

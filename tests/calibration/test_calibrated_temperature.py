@@ -260,7 +260,8 @@ def test_cli_writes_and_refuses_in_one_line(fake, tmp_path, capsys):
                      "--out", str(tmp_path / "no.cgms")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("cgms material: --temperature: no coarse "
-                                               "parameters at 55 C: it lies across")
+                                               "parameters at 55 C: the calibrated temperatures nearest it, 40 "
+                                               "and 70 C, lie across")
     assert not (tmp_path / "no.cgms").exists()
 
 

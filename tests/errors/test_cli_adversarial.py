@@ -133,7 +133,7 @@ REFUSED = [
     ("mfc --temperature nan --out o", "--temperature must be in 0 .. 100 (C"),
     ("mfc --temperature warm --out o", "argument --temperature: invalid float value"),
     # the coarse parameters at a temperature
-    ("material --temperature 55 --out o", "55 C: it lies across the membrane window"),
+    ("material --temperature 55 --out o", "40 and 70 C, lie across the membrane window"),
     ("material --temperature 150 --out o", "150 C: outside the calibrated range"),
     ("material --temperature nan --out o", "must be a number of degrees C"),
     ("material --temperature 40 --family nosuch --out o", "no calibrated material nosuch-T"),
