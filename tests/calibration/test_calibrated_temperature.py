@@ -259,9 +259,9 @@ def test_cli_writes_and_refuses_in_one_line(fake, tmp_path, capsys):
     assert cli.main(["material", "--temperature", "55", "--family", "fake",
                      "--out", str(tmp_path / "no.cgms")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("cgms material: --temperature: no coarse "
-                                               "parameters at 55 C: the calibrated temperatures nearest it, 40 "
-                                               "and 70 C, lie across")
+    assert len(err) == 1 and err[0].startswith(
+        "cgms material: --temperature: no coarse parameters at 55 C: the calibrated "
+        "temperatures nearest it, 40 and 70 C, lie across the membrane window")
     assert not (tmp_path / "no.cgms").exists()
 
 
