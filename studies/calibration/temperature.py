@@ -20,7 +20,6 @@ holds the dried MFC tissue whole: reference/mfc/README.md). Prints tables and wr
 """
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
