@@ -121,6 +121,37 @@ def cells(x, w):
     return {k: np.array(v) for k, v in out.items()}
 
 
+def winding(points, x, tri):
+    """Winding number of each point about the closed outward triangle mesh (x, tri): 1
+    inside, 0 outside (the solid angles of its triangles over 4 pi, Van Oosterom and
+    Strackee, IEEE Trans. Biomed. Eng. 30, 1983, 125)."""
+    a = x[tri[:, 0]][None] - points[:, None]
+    b = x[tri[:, 1]][None] - points[:, None]
+    c = x[tri[:, 2]][None] - points[:, None]
+    la, lb, lc = (np.linalg.norm(v, axis=2) for v in (a, b, c))
+    num = np.einsum("pti,pti->pt", a, np.cross(b, c))
+    den = (la * lb * lc + np.einsum("pti,pti->pt", a, b) * lc
+           + np.einsum("pti,pti->pt", b, c) * la + np.einsum("pti,pti->pt", c, a) * lb)
+    return 2 * np.arctan2(num, den).sum(axis=1) / (4 * math.pi)
+
+
+def intrusions(x, w):
+    """Wall particles lying inside another cell's wall (walls that passed through each
+    other): (particle, cell) pairs, 0-based. Empty when the lamella kept them apart."""
+    m, tri = len(w["x"]), w["tri"]
+    ncell = len(x) // m
+    found = []
+    for c in range(ncell):
+        xc = x[c * m:(c + 1) * m]
+        lo, hi = xc.min(axis=0), xc.max(axis=0)
+        near = np.nonzero(np.all((x >= lo) & (x <= hi), axis=1))[0]
+        near = near[near // m != c]
+        if len(near):
+            inside = near[winding(x[near], xc, tri) > 0.5]
+            found += [(int(i), c) for i in inside]
+    return found
+
+
 def tissue(x, cell_measures):
     """The tissue's measures: volume and surface of the convex hull of all wall particles,
     the cells' summed volume, and the extents along x, y, z (the block's axes)."""

@@ -12,7 +12,8 @@ bonds set at rest there, then each level reached from the previous one through s
 ``seed + round(1e4 s)``) before the level, and minimised to the force test. Per level
 ``cells.s<s>.csv`` (id, centroid x y z, volume, wall area) and ``level.s<s>.json`` (the
 tissue's hull volume and surface, summed cell volume, extents, iterations, largest force,
-seconds); ``lamella.txt`` the lamella's rest lengths. An existing folder is refused.
+seconds, and the count of wall particles inside another cell's wall, 0 when the lamella
+kept the walls apart); ``lamella.txt`` the lamella's rest lengths. An existing folder is refused.
 """
 
 import argparse
@@ -64,6 +65,7 @@ def record(out, lmp, w, s, result, seconds):
     m = run3d.cells(x, w)
     _write_cells(out / f"cells.{level_name(s)}.csv", m)
     info = dict(s=s, **run3d.tissue(x, m), **result, seconds=round(seconds, 1),
+                intrusions=len(run3d.intrusions(x, w)),
                 cell_volume_over_fluid=float(m["volume"].sum() / (s * w["fluid_volume"]
                                                                   * len(m["volume"]))))
     folders.write_json(out / f"level.{level_name(s)}.json", info)
