@@ -170,9 +170,10 @@ def pair_script(w, nprocs=1, newton="on", steps=200, restart=None, read=None,
 
 @pytest.mark.lammps
 def test_glued_pair_conserves_momentum_particles_and_fluid(tmp_path):
-    """Without damping the glued pair's total momentum stays what it started as (zero),
-    to the rounding of the forces' sum (each force pair and each cell's fluid forces sum
-    to zero), every particle stays, and each cell's fluid rest volume is s times fresh."""
+    """Without damping the glued pair's total momentum and angular momentum stay what they
+    started as (zero), to the rounding of the forces' sum (each force pair and each cell's
+    fluid forces sum to zero, and so do their torques), every particle stays, and each
+    cell's fluid rest volume is s times fresh."""
     w, lamella = glued_pair(tmp_path)
     proc = run_lmp(tmp_path, pair_script(w, damp=False, steps=400))
     final = read_dump(tmp_path / "final.dump")
@@ -182,6 +183,10 @@ def test_glued_pair_conserves_momentum_particles_and_fluid(tmp_path):
     p = np.array([final[k] for k in ("vx", "vy", "vz")])
     scale = np.abs(p).sum()
     assert scale > 0 and np.abs(p.sum(axis=1)).max() < 1e-10 * scale
+    r = np.array([final[k] for k in ("x", "y", "z")])
+    r = r - r.mean(axis=1)[:, None]                  # one mass: the centre of mass
+    spin = np.cross(r.T, p.T)
+    assert np.abs(spin.sum(axis=0)).max() < 1e-10 * np.abs(spin).sum()
     fluid = [s for s in run3d.level_commands(P, w, 0.8) if "mfc/pressure3d" in s][0]
     assert float(fluid.split("volume")[1]) == pytest.approx(0.8 * math.pi * D ** 3 / 6,
                                                             rel=1e-14)
@@ -261,3 +266,36 @@ def test_study_dries_a_glued_pair(tmp_path):
     assert np.abs(d - np.array([rest[t] for t in glue[:, 0]])).max() <= tissue3d.REST_BIN / 2 * 1.0001
     with pytest.raises(SystemExit, match="cgms mfc3d: .*exists"):
         study3d.main([str(out), "--cubes", "1", "--subdivision", "2", "--levels", "1"])
+
+
+@pytest.mark.mpi
+def test_minimised_state_agrees_on_one_and_two_ranks(tmp_path_factory):
+    """The glued pair at s = 0.8 minimised to the force test (largest force below 1e-10 N)
+    on 1 and 2 ranks (newton on and off) reaches the same state: the runs may stop anywhere
+    within the force test, a distance of at most ftol over the softest stiffness of a wall
+    node, that of bending, K_dihedral / l^2 (the shortest edge l); the cell volumes then
+    within 3 times that over the cell radius."""
+    runs = {}
+    for name, nprocs, newton in (("np1", 1, "on"), ("np2", 2, "on"), ("np2off", 2, "off")):
+        folder = tmp_path_factory.mktemp(name)
+        w, _ = glued_pair(folder)
+        lines = [f"plugin load {PLUGIN}"] + run3d.setup_commands(
+            "pair.data", w, newton=newton, processors="2 1 1" if nprocs > 1 else None)
+        lines += run3d.level_commands(P, w, 0.8)
+        lines += ["displace_atoms all random 1e-7 1e-7 1e-7 11 units box",
+                  "min_style cg", "min_modify norm max dmax 1e-7 line quadratic",
+                  "minimize 0 1e-10 20000 200000", 'print "FMAX $(fmax:%.17g)"',
+                  "write_dump all custom final.dump id x y z modify sort id "
+                  "format float %.17g"]
+        proc = run_lmp(folder, "\n".join(lines) + "\n", nprocs=nprocs)
+        assert float(proc.stdout.split("FMAX ")[-1].split()[0]) < 1e-10
+        d = read_dump(folder / "final.dump")
+        x = np.c_[d["x"], d["y"], d["z"]]
+        runs[name] = x, run3d.cells(x, w)["volume"]
+    shortest = w["rest_classes"].min()
+    reach = 1e-10 / (w["k_dihedral"] / shortest ** 2)
+    x1, v1 = runs["np1"]
+    for name in ("np2", "np2off"):
+        x2, v2 = runs[name]
+        assert np.abs(x1 - x2).max() < reach, name
+        assert np.abs(v2 / v1 - 1).max() < 3 * reach / w["radius"], name
