@@ -14,7 +14,7 @@ the LJ of its pair, as in 2-D). Every force has an energy, so steady states are 
 import math
 
 import numpy as np
-from scipy.spatial import ConvexHull
+from scipy.spatial import ConvexHull, QhullError
 
 from .model import level
 from . import cell3d
@@ -154,8 +154,18 @@ def intrusions(x, w):
 
 def tissue(x, cell_measures):
     """The tissue's measures: volume and surface of the convex hull of all wall particles,
-    the cells' summed volume, and the extents along x, y, z (the block's axes)."""
+    the cells' summed volume, the extents along x, y, z (the block's axes); and those of
+    the cell centroids (the 2-D reference's tissue measures are its centroids'): their
+    hull's volume and surface and their extents."""
     hull = ConvexHull(x)
-    return dict(volume=float(hull.volume), surface=float(hull.area),
-                cell_volume=float(cell_measures["volume"].sum()),
-                extents=[float(e) for e in x.max(axis=0) - x.min(axis=0)])
+    c = cell_measures["centroid"]
+    out = dict(volume=float(hull.volume), surface=float(hull.area),
+               cell_volume=float(cell_measures["volume"].sum()),
+               extents=[float(e) for e in x.max(axis=0) - x.min(axis=0)],
+               centroid_extents=[float(e) for e in c.max(axis=0) - c.min(axis=0)])
+    try:
+        inner = ConvexHull(c)
+        out.update(centroid_volume=float(inner.volume), centroid_surface=float(inner.area))
+    except QhullError:                     # fewer than four cells, or all in one plane
+        out.update(centroid_volume=0.0, centroid_surface=0.0)
+    return out

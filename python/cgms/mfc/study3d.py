@@ -5,6 +5,7 @@
 (doc/mfc.md, "3-D tissue"; reference/mfc3d/README.md).
 
     python3 -m cgms.mfc.study3d OUT [--cubes 2] [--subdivision 3] [--levels 1,0.8,...]
+                                    [--seed 1] [--material apple]
 
 The path is the 2-D one: the fresh block relaxed with the lamella's LJ alone, the lamella
 bonds set at rest there, then each level reached from the previous one through stages
@@ -128,11 +129,15 @@ def main(argv=None):
     ap.add_argument("--subdivision", type=int, default=tissue3d.TISSUE3D["subdivision"])
     ap.add_argument("--levels", default=",".join(f"{s:g}" for s in LEVELS))
     ap.add_argument("--material", default="apple")
+    ap.add_argument("--seed", type=int, default=run3d.DEFAULTS["seed"],
+                    help="kick seed: level s uses seed + round(1e4 s)")
     args = ap.parse_args(argv)
     try:
         levels = [float(v) for v in args.levels.split(",")]
+        if not 1 <= args.seed <= 2**31 - 1 - 10**4:
+            raise ValueError(f"--seed must be in 1..{2**31 - 1 - 10**4}, got {args.seed}")
         dry(args.out, mfc_model.parameters(args.material), args.cubes, args.subdivision,
-            levels)
+            levels, seed=args.seed)
     except (ValueError, FileExistsError) as err:
         sys.exit(f"cgms mfc3d: {err}")
 
