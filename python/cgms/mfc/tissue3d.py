@@ -9,7 +9,8 @@ Decisions (the 2-D tissue's, carried to 3-D; doc/mfc.md says why):
 * a cell's wall is built as its own Voronoi polyhedron, Kelvin's truncated octahedron,
   scaled about the bead to the volume of the sphere of diameter D (as the 2-D hexagon
   holds the circle's area); each face is fanned from its centre and each fan triangle
-  split into ``n`` x ``n`` (``36 n^2 + 2`` wall particles per cell). The faces are
+  split into ``n`` x ``n`` (``36 n^2 + 2`` wall particles per cell; n = 5 by default, see
+  :data:`TISSUE3D`). The faces are
   centrosymmetric, so two neighbours' facing walls carry the same nodes, each facing the
   other across the gap, as the 2-D hexagons' walls do (an icosphere would give facing walls
   whose nodes do not face each other, and spheres do not tile);
@@ -36,8 +37,14 @@ from scipy.spatial import cKDTree
 from .. import folders, tissue3d as coarse3d
 from . import cell3d
 
-#: the 3-D tissue's fixed values: face subdivision, the gap's reach for lamella bonds
-TISSUE3D = dict(subdivision=3, reach=1.05)
+#: the 3-D tissue's fixed values: face subdivision, the gap's reach for lamella bonds.
+#: Decision: n = 5 (902 particles per cell, edges 10.8 and 7.6 um): the LJ acts between
+#: particles only, so a wall is tight to its neighbour's particles only where a triangle's
+#: centre lies well inside the LJ radius d_p of its corners (edge / sqrt(3) < d_p). At n = 3
+#: and 4 (edges 18.0 and 13.5 um) particles of the relaxed fresh 16-cell block slipped
+#: through their neighbours' walls (1436 of 5216 and 1344 of 9248); at n = 5 none did
+#: (doc/results/mfc.md, "A 3-D tissue").
+TISSUE3D = dict(subdivision=5, reach=1.05)
 #: lamella rest lengths are binned to this (m), one bond type per bin (as 2-D)
 REST_BIN = 1e-8
 
