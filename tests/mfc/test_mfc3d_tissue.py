@@ -246,6 +246,8 @@ def test_study_dries_a_glued_pair(tmp_path):
         assert r["converged"] and r["fmax"] < 1e-10 and r["intrusions"] == 0
         assert abs(r["cell_volume_over_fluid"] - 1) < 0.02
     assert res[1]["volume"] < res[0]["volume"]
+    summary = (out / "summary.csv").read_text().splitlines()
+    assert summary[0].split(",") == list(study3d.SUMMARY) and len(summary) == 3
     cells = np.loadtxt(out / "cells.s0.8.csv", delimiter=",", skiprows=1)
     assert cells.shape == (2, 6)
     fresh = np.loadtxt(out / "cells.s1.csv", delimiter=",", skiprows=1)

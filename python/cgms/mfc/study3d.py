@@ -14,7 +14,7 @@ bonds set at rest there, then each level reached from the previous one through s
 ``cells.s<s>.csv`` (id, centroid x y z, volume, wall area) and ``level.s<s>.json`` (the
 tissue's hull volume and surface, summed cell volume, extents, iterations, largest force,
 seconds, and the count of wall particles inside another cell's wall, 0 when the lamella
-kept the walls apart); ``lamella.txt`` the lamella's rest lengths. An existing folder is refused.
+kept the walls apart); ``summary.csv`` the levels in one table; ``lamella.txt`` the lamella's rest lengths. An existing folder is refused.
 """
 
 import argparse
@@ -118,7 +118,29 @@ def dry(out, p, cubes=2, n=tissue3d.TISSUE3D["subdivision"], levels=LEVELS, say=
         say(f"s = {s:g}: {json.dumps(results[-1])}")
         previous = s
     lmp.close()
+    write_summary(out / "summary.csv", results)
     return results
+
+
+#: the columns of ``summary.csv``: one row per level
+SUMMARY = ("s", "volume", "surface", "cell_volume", "centroid_volume", "centroid_surface",
+           "extent_x", "extent_y", "extent_z", "centroid_extent_x", "centroid_extent_y",
+           "centroid_extent_z", "cell_volume_over_fluid", "intrusions", "converged", "fmax",
+           "iterations", "seconds")
+
+
+def write_summary(path, results):
+    """The levels' tissue measures in one table (SI units)."""
+    rows = []
+    for r in results:
+        flat = dict(r)
+        for d, c in enumerate("xyz"):
+            flat[f"extent_{c}"] = r["extents"][d]
+            flat[f"centroid_extent_{c}"] = r["centroid_extents"][d]
+        rows.append(",".join(f"{flat[k]:.10g}" if isinstance(flat[k], float) else str(flat[k])
+                             for k in SUMMARY))
+    folders.write_text(path, ",".join(SUMMARY) + "\n" + "\n".join(rows) + "\n",
+                       overwrite=True)
 
 
 def main(argv=None):
