@@ -28,7 +28,7 @@ def setup_commands(data, w, newton="on", processors=None):
     (:func:`cgms.mfc.tissue3d.write_data`) and define its forces; the fluid and the wall
     rest lengths of a level follow with :func:`level_commands`."""
     rc = w["lamella_rc"]
-    reach = float(np.max(w["rest_classes"])) / (1 - w["stretch"]) / w["rest_scale"]
+    reach = w["spacing"]
     lines = ["units si", "dimension 3", "boundary s s s", f"newton {newton}",
              "atom_style molecular", "atom_modify map array"]
     if processors:

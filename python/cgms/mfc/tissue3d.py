@@ -19,19 +19,23 @@ Decisions (the 2-D tissue's, carried to 3-D; doc/mfc.md says why):
   facing square walls 2 d_p / sqrt(3) = 9.24 um (a scaled truncated octahedron keeps the
   ratio of its face distances);
 * the wall (:func:`cgms.mfc.cell3d.wall`'s laws): harmonic bonds k = sqrt(3) E t / 2 along
-  every edge, resting at the built length scaled so that the rest wall has the area of the
-  free fresh cell's sphere of diameter D shrunk by its Laplace pre-stress, ``1 - P_T R /
-  (2 sqrt(3) k)`` (as the 2-D ring rests at the circle's perimeter over 1 + eps_T); harmonic
-  dihedrals on every edge (zero when flat); the fluid's rest volume pi D^3 / 6;
+  every edge; harmonic dihedrals on every edge (zero when flat); the fluid's rest volume
+  pi D^3 / 6. The rest lengths are the free fresh cell's, as the 2-D ring rests at the free
+  turgid circle's perimeter over 1 + eps_T: the mesh pushed out radially onto the sphere
+  whose mesh holds the fluid, each edge's length there times ``1 - stretch``, the
+  pre-stress that holds P_T by the virial of that cell (``sum T l = 3 P V``; on an
+  equilateral net it is the 3-D cell's Laplace ``P_T R / (2 sqrt(3) k)``);
 * between walls of different cells (``neigh_modify exclude molecule/intra``): the 2-D
   lamella's 8-4 LJ (r0 = d_p, cutoff 12 um) with E0 scaled by the wall area a 3-D node
   stands for over a 2-D node's (``spacing x H``); the lamella bonds, set at rest in the
   relaxed fresh tissue, with the LJ's stiffness at d_p (32 E0 / d_p^2, as 2-D).
 """
 
+import functools
 import math
 
 import numpy as np
+from scipy import optimize
 from scipy.spatial import cKDTree
 
 from .. import folders, tissue3d as coarse3d
@@ -105,7 +109,76 @@ def polyhedron(n):
     return x, tri
 
 
+def free_pressure(x, tri, edges, rest, k, modulus, turgor, fluid):
+    """The fluid pressure of a free cell of bonds (stiffness ``k``, rest lengths ``rest``)
+    and fluid (the Tait law of ``fix mfc/pressure3d``) at rest, minimised from ``x``
+    (L-BFGS on the energy and its exact gradient; bending left out: it moves a fresh
+    cell's pressure by about kappa / R^3, 4e-4 of P_T). Returns the pressure and the
+    positions."""
+    scale = float(np.linalg.norm(x, axis=1).max())
+    unit = turgor * fluid            # energies in this unit, lengths in ``scale``
+
+    def energy(y):
+        z = y.reshape(-1, 3) * scale
+        d = z[edges[:, 1]] - z[edges[:, 0]]
+        length = np.linalg.norm(d, axis=1)
+        stretch = length - rest
+        v, dv = cell3d.volume(z, tri)
+        q = fluid / v
+        e = 0.5 * k * np.sum(stretch ** 2) + (modulus - turgor) * (v - fluid) \
+            + modulus * fluid / 6 * (q ** 6 - 1)
+        pressure = turgor + modulus * (q ** 7 - 1)
+        g = -pressure * dv
+        pull = (k * stretch / length)[:, None] * d
+        np.add.at(g, edges[:, 1], pull)
+        np.add.at(g, edges[:, 0], -pull)
+        return e / unit, (g * scale / unit).ravel()
+    res = optimize.minimize(energy, (x / scale).ravel(), jac=True, method="L-BFGS-B",
+                            options=dict(maxiter=20000, maxcor=30, ftol=0, gtol=1e-12))
+    z = res.x.reshape(-1, 3) * scale
+    v = cell3d.volume(z, tri)[0]
+    return turgor + modulus * ((fluid / v) ** 7 - 1), z
+
+
+def prestress(x, tri, edges, length, k, modulus, turgor, fluid, tol=1e-5):
+    """The pre-stress ``stretch`` that holds the turgor: with every edge resting at
+    ``length (1 - stretch)``, the free cell (:func:`free_pressure`, from ``x``) is at
+    rest with its fluid at ``turgor``, to ``tol`` (the relaxation's own precision is
+    about 1e-6 of P_T). Started from the virial of the
+    unrelaxed mesh, ``sum T l = k stretch sum l^2 = 3 P_T V_f`` (on an equilateral net the
+    3-D cell's Laplace ``P_T R / (2 sqrt(3) k)``), then secant steps: the mesh's triangles
+    are not all equilateral and its nodes slide when it relaxes."""
+    s0 = 3 * turgor * fluid / (k * np.sum(length ** 2))
+    p0, y = free_pressure(x, tri, edges, length * (1 - s0), k, modulus, turgor, fluid)
+    s1 = s0 * turgor / p0
+    for _ in range(8):
+        p1, y = free_pressure(y, tri, edges, length * (1 - s1), k, modulus, turgor, fluid)
+        if abs(p1 / turgor - 1) < tol:
+            return float(s1)
+        if p1 == p0:
+            break
+        s0, p0, s1 = s1, p1, s1 + (turgor - p1) * (s1 - s0) / (p1 - p0)
+    raise RuntimeError(f"the wall's pre-stress did not converge: P = {p1:.6g} Pa at "
+                       f"stretch {s1:.6g}, turgor {turgor:.6g} Pa")
+
+
+@functools.lru_cache(maxsize=8)
+def _wall(values, n):
+    return _build_wall(dict(values), n)
+
+
 def wall(p, n=TISSUE3D["subdivision"]):
+    """The fresh wall of one cell of MFC parameters ``p``: the mesh (centred on the bead),
+    the wall's laws (:func:`cgms.mfc.cell3d.wall`), rest lengths, the fluid's rest volume,
+    and the lamella's LJ and bond constants (cached: the pre-stress takes a few
+    relaxations of a free cell)."""
+    keys = ("diameter", "wall_Et", "wall_thickness", "bend_factor", "P_f", "K", "pectin",
+            "b_ref", "per_side", "height", "lamella_E0", "lamella_rc")
+    w = _wall(tuple((key, float(p[key])) for key in keys), int(n) if int(n) == n else n)
+    return {key: (v.copy() if isinstance(v, np.ndarray) else v) for key, v in w.items()}
+
+
+def _build_wall(p, n):
     """The fresh wall of one cell of MFC parameters ``p``: the mesh (centred on the bead),
     the wall's laws (:func:`cgms.mfc.cell3d.wall`), rest lengths, the fluid's rest volume,
     and the lamella's LJ and bond constants."""
@@ -117,18 +190,26 @@ def wall(p, n=TISSUE3D["subdivision"]):
     free = cell3d.wall(p, level=0)                          # the laws, not the mesh
     radius = p["diameter"] / 2
     built_area = cell3d.area(x, tri)
-    # rest wall: the free fresh sphere's area, less the pre-stress (uniform scaling)
-    scale = math.sqrt(math.pi * p["diameter"] ** 2 / built_area) * (1 - free["stretch"])
+    fluid = math.pi * p["diameter"] ** 3 / 6
+    # the free fresh cell: the mesh pushed out radially onto the sphere whose mesh holds
+    # the fluid, at the Laplace pre-stress; every edge rests at its length there
+    sphere = x / np.linalg.norm(x, axis=1)[:, None]
+    sphere *= (fluid / cell3d.volume(sphere, tri)[0]) ** (1 / 3)
     length = np.linalg.norm(x[edges[:, 1]] - x[edges[:, 0]], axis=1)
-    classes, kind = np.unique(np.round(length / a, 9), return_inverse=True)
+    free_length = np.linalg.norm(sphere[edges[:, 1]] - sphere[edges[:, 0]], axis=1)
+    stretch = prestress(sphere, tri, edges, free_length, free["k_bond"], p["K"], p["P_f"],
+                        fluid)
+    # one bond type per rest length (the mesh's symmetry leaves a few dozen)
+    classes, kind = np.unique(np.round(free_length / a, 9), return_inverse=True)
+    classes = classes * a * (1 - stretch)
     node_area = built_area / len(x)
     # the 2-D lamella per node stood for spacing x H of wall: scale by the area per node
     area_2d = p["b_ref"] / int(p["per_side"]) * p["height"]
     e0 = p["lamella_E0"] * node_area / area_2d
     return dict(x=x, tri=tri, edges=edges, hinges=hinges, radius=radius, cube=a,
-                k_bond=free["k_bond"], stretch=free["stretch"], k_dihedral=free["k_dihedral"],
-                rest_classes=classes * a * scale, bond_type=kind + 1, rest_scale=scale,
-                built_area=built_area, fluid_volume=math.pi * p["diameter"] ** 3 / 6,
+                k_bond=free["k_bond"], stretch=stretch, k_dihedral=free["k_dihedral"],
+                rest_classes=classes, bond_type=kind + 1, free_x=sphere,
+                built_area=built_area, fluid_volume=fluid,
                 mesh_volume=cell3d.volume(x, tri)[0], spacing=float(length.max()),
                 node_area=node_area, lamella_E0=e0, lamella_k=32 * e0 / p["pectin"] ** 2,
                 lamella_rc=p["lamella_rc"], pectin=p["pectin"], subdivision=n)
