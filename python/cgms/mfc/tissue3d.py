@@ -43,11 +43,11 @@ from . import cell3d
 
 #: the 3-D tissue's fixed values: face subdivision, the gap's reach for lamella bonds.
 #: Decision: n = 5 (902 particles per cell, edges 10.8 and 7.6 um): the LJ acts between
-#: particles only, so a wall is tight to its neighbour's particles only where a triangle's
-#: centre lies well inside the LJ radius d_p of its corners (edge / sqrt(3) < d_p). At n = 3
-#: and 4 (edges 18.0 and 13.5 um) particles of the relaxed fresh 16-cell block slipped
-#: through their neighbours' walls (1436 of 5216 and 1344 of 9248); at n = 5 none did
-#: (doc/results/mfc.md, "A 3-D tissue").
+#: particles only, so a wall holds its neighbour's particles off only where a triangle's
+#: centre lies well inside the LJ radius d_p of its corners (edge / sqrt(3) below d_p). In
+#: the relaxed fresh 16-cell block, particles inside a neighbour's wall: 1712 of 5216 at
+#: n = 3, 978 of 9248 at n = 4, 13 of 14 432 at n = 5 (shallow, none at the dried levels),
+#: none of 20 768 at n = 6, which costs 1.4x more (doc/results/mfc.md, "A 3-D tissue").
 TISSUE3D = dict(subdivision=5, reach=1.05)
 #: lamella rest lengths are binned to this (m), one bond type per bin (as 2-D)
 REST_BIN = 1e-8
