@@ -48,7 +48,7 @@ from . import cell3d
 #: the relaxed fresh 16-cell block, particles inside a neighbour's wall: 1712 of 5216 at
 #: n = 3, 978 of 9248 at n = 4, 13 of 14 432 at n = 5 (shallow, none at the dried levels),
 #: none of 20 768 at n = 6, which costs 1.4x more (doc/results/mfc.md, "A 3-D tissue").
-TISSUE3D = dict(subdivision=5, reach=1.05)
+TISSUE3D = dict(subdivision=5, reach=1.05, rest="polyhedron")
 #: lamella rest lengths are binned to this (m), one bond type per bin (as 2-D)
 REST_BIN = 1e-8
 
@@ -140,17 +140,16 @@ def free_pressure(x, tri, edges, rest, k, modulus, turgor, fluid):
     return turgor + modulus * ((fluid / v) ** 7 - 1), z
 
 
-def prestress(x, tri, edges, length, k, modulus, turgor, fluid, tol=1e-5):
+def prestress(x, tri, edges, length, k, modulus, turgor, fluid, first, tol=1e-5):
     """The pre-stress ``stretch`` that holds the turgor: with every edge resting at
     ``length (1 - stretch)``, the free cell (:func:`free_pressure`, from ``x``) is at
     rest with its fluid at ``turgor``, to ``tol`` (the relaxation's own precision is
-    about 1e-6 of P_T). Started from the virial of the
-    unrelaxed mesh, ``sum T l = k stretch sum l^2 = 3 P_T V_f`` (on an equilateral net the
-    3-D cell's Laplace ``P_T R / (2 sqrt(3) k)``), then secant steps: the mesh's triangles
-    are not all equilateral and its nodes slide when it relaxes."""
-    s0 = 3 * turgor * fluid / (k * np.sum(length ** 2))
+    about 1e-6 of P_T). Secant steps from ``first``: a rule (Laplace's, the virial's)
+    exact only for equilateral triangles that stay where they are; this mesh's are not
+    all equilateral and its nodes slide as it relaxes."""
+    s0 = first
     p0, y = free_pressure(x, tri, edges, length * (1 - s0), k, modulus, turgor, fluid)
-    s1 = s0 * turgor / p0
+    s1 = s0 * (1 + 1e-3)
     for _ in range(8):
         p1, y = free_pressure(y, tri, edges, length * (1 - s1), k, modulus, turgor, fluid)
         if abs(p1 / turgor - 1) < tol:
@@ -163,22 +162,23 @@ def prestress(x, tri, edges, length, k, modulus, turgor, fluid, tol=1e-5):
 
 
 @functools.lru_cache(maxsize=8)
-def _wall(values, n):
-    return _build_wall(dict(values), n)
+def _wall(values, n, rest):
+    return _build_wall(dict(values), n, rest)
 
 
-def wall(p, n=TISSUE3D["subdivision"]):
+def wall(p, n=TISSUE3D["subdivision"], rest=None):
     """The fresh wall of one cell of MFC parameters ``p``: the mesh (centred on the bead),
     the wall's laws (:func:`cgms.mfc.cell3d.wall`), rest lengths, the fluid's rest volume,
     and the lamella's LJ and bond constants (cached: the pre-stress takes a few
     relaxations of a free cell)."""
     keys = ("diameter", "wall_Et", "wall_thickness", "bend_factor", "P_f", "K", "pectin",
             "b_ref", "per_side", "height", "lamella_E0", "lamella_rc")
-    w = _wall(tuple((key, float(p[key])) for key in keys), int(n) if int(n) == n else n)
+    w = _wall(tuple((key, float(p[key])) for key in keys), int(n) if int(n) == n else n,
+              rest or TISSUE3D["rest"])
     return {key: (v.copy() if isinstance(v, np.ndarray) else v) for key, v in w.items()}
 
 
-def _build_wall(p, n):
+def _build_wall(p, n, rest):
     """The fresh wall of one cell of MFC parameters ``p``: the mesh (centred on the bead),
     the wall's laws (:func:`cgms.mfc.cell3d.wall`), rest lengths, the fluid's rest volume,
     and the lamella's LJ and bond constants."""
@@ -192,15 +192,26 @@ def _build_wall(p, n):
     built_area = cell3d.area(x, tri)
     fluid = math.pi * p["diameter"] ** 3 / 6
     # the free fresh cell: the mesh pushed out radially onto the sphere whose mesh holds
-    # the fluid, at the Laplace pre-stress; every edge rests at its length there
+    # the fluid (where the pre-stress's relaxations start)
     sphere = x / np.linalg.norm(x, axis=1)[:, None]
     sphere *= (fluid / cell3d.volume(sphere, tri)[0]) ** (1 / 3)
     length = np.linalg.norm(x[edges[:, 1]] - x[edges[:, 0]], axis=1)
-    free_length = np.linalg.norm(sphere[edges[:, 1]] - sphere[edges[:, 0]], axis=1)
-    stretch = prestress(sphere, tri, edges, free_length, free["k_bond"], p["K"], p["P_f"],
-                        fluid)
-    # one bond type per rest length (the mesh's symmetry leaves a few dozen)
-    classes, kind = np.unique(np.round(free_length / a, 9), return_inverse=True)
+    if rest == "polyhedron":
+        # rest shape: the built polyhedron, scaled to the sphere's area less the Laplace
+        # pre-stress of the 3-D cell to start with
+        shape = length
+        first = 1 - math.sqrt(math.pi * p["diameter"] ** 2 / built_area) * (1 - free["stretch"])
+    elif rest == "sphere":
+        # rest shape: the mesh on the sphere; start from the virial of that sphere,
+        # sum T l = k stretch sum l^2 = 3 P_T V_f
+        shape = np.linalg.norm(sphere[edges[:, 1]] - sphere[edges[:, 0]], axis=1)
+        first = 3 * p["P_f"] * fluid / (free["k_bond"] * np.sum(shape ** 2))
+    else:
+        raise ValueError(f"the wall's rest shape must be polyhedron or sphere, got {rest!r}")
+    stretch = prestress(sphere, tri, edges, shape, free["k_bond"], p["K"], p["P_f"], fluid,
+                        first)
+    # one bond type per rest length (two for the polyhedron, a few dozen for the sphere)
+    classes, kind = np.unique(np.round(shape / a, 9), return_inverse=True)
     classes = classes * a * (1 - stretch)
     node_area = built_area / len(x)
     # the 2-D lamella per node stood for spacing x H of wall: scale by the area per node
