@@ -20,11 +20,11 @@ Decisions (the 2-D tissue's, carried to 3-D; doc/mfc.md says why):
   ratio of its face distances);
 * the wall (:func:`cgms.mfc.cell3d.wall`'s laws): harmonic bonds k = sqrt(3) E t / 2 along
   every edge; harmonic dihedrals on every edge (zero when flat); the fluid's rest volume
-  pi D^3 / 6. The rest lengths are the free fresh cell's, as the 2-D ring rests at the free
-  turgid circle's perimeter over 1 + eps_T: the mesh pushed out radially onto the sphere
-  whose mesh holds the fluid, each edge's length there times ``1 - stretch``, the
-  pre-stress that holds P_T by the virial of that cell (``sum T l = 3 P V``; on an
-  equilateral net it is the 3-D cell's Laplace ``P_T R / (2 sqrt(3) k)``);
+  pi D^3 / 6. The wall rests in the built polyhedron's shape, every edge at its built
+  length times ``1 - stretch``, the pre-stress found so that the free fresh cell holds
+  P_T (:func:`prestress`), as the 2-D ring's pre-stress makes the free cell a circle at
+  P_T. (``rest="sphere"``: resting in the free cell's shape, the mesh on the sphere; its
+  fresh block does not stay cubic, doc/results/mfc.md);
 * between walls of different cells (``neigh_modify exclude molecule/intra``): the 2-D
   lamella's 8-4 LJ (r0 = d_p, cutoff 12 um) with E0 scaled by the wall area a 3-D node
   stands for over a 2-D node's (``spacing x H``); the lamella bonds, set at rest in the
@@ -41,13 +41,13 @@ from scipy.spatial import cKDTree
 from .. import folders, tissue3d as coarse3d
 from . import cell3d
 
-#: the 3-D tissue's fixed values: face subdivision, the gap's reach for lamella bonds.
-#: Decision: n = 5 (902 particles per cell, edges 10.8 and 7.6 um): the LJ acts between
-#: particles only, so a wall holds its neighbour's particles off only where a triangle's
-#: centre lies well inside the LJ radius d_p of its corners (edge / sqrt(3) below d_p). In
-#: the relaxed fresh 16-cell block, particles inside a neighbour's wall: 1712 of 5216 at
-#: n = 3, 978 of 9248 at n = 4, 13 of 14 432 at n = 5 (shallow, none at the dried levels),
-#: none of 20 768 at n = 6, which costs 1.4x more (doc/results/mfc.md, "A 3-D tissue").
+#: the 3-D tissue's fixed values: face subdivision, the gap's reach for lamella bonds, the
+#: wall's rest shape. Decision: n = 5 (902 particles per cell, edges 10.8 and 7.6 um): the
+#: LJ acts between particles only, so a wall holds its neighbour's particles off only where
+#: a triangle's centre lies well inside the LJ radius d_p of its corners (edge / sqrt(3)
+#: below d_p). In the relaxed fresh 16-cell block, particles inside a neighbour's wall:
+#: 1403 of 5216 at n = 3, 1486 of 9248 at n = 4, none of 14 432 at n = 5 (doc/mfc.md,
+#: "Mesh").
 TISSUE3D = dict(subdivision=5, reach=1.05, rest="polyhedron")
 #: lamella rest lengths are binned to this (m), one bond type per bin (as 2-D)
 REST_BIN = 1e-8
