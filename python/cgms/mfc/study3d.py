@@ -15,7 +15,8 @@ level, the fresh one too (unlike 2-D), the walls are kicked by up to 0.1 um (LAM
 ``cells.s<s>.csv`` (id, centroid x y z, volume, wall area) and ``level.s<s>.json`` (the
 tissue's hull volume and surface, summed cell volume, extents, iterations, largest force,
 seconds, and the count of wall particles inside another cell's wall, 0 when the lamella
-kept the walls apart); ``summary.csv`` the levels in one table; ``lamella.txt`` the lamella's rest lengths. An existing folder is refused.
+kept the walls apart); ``summary.csv`` the levels in one table; ``lamella.txt`` the
+lamella's rest lengths. An existing folder is refused.
 """
 
 import argparse
