@@ -135,12 +135,16 @@ class Problem:
         return H
 
 
-def newton(z, lev, ftol=1e-9, max_iterations=200):
+def newton(z, lev, ftol=1e-9, max_iterations=200, certify=False):
     """The steady state from ``z`` at level ``lev`` (:func:`cgms.shaped_tensor.at_level`,
     of a tissue built with or without ``local``). Returns (z, info): info holds fmax (N,
     as :func:`cgms.shaped_tensor.forces`), iterations (steps taken), factorisations,
-    evaluations, converged, status, and the CPU seconds spent in energy, Hessian and
-    factorisation.
+    evaluations, converged, status, the CPU seconds spent in energy, Hessian and
+    factorisation, and the counts of Hessians assembled, factorisations found indefinite
+    (``indefinite``), steps refused and steps taken on a kept factorisation (``chord``).
+    With ``certify``, a converged state's Hessian is factorised once more and ``negative``
+    counts its negative eigenvalues (:func:`unstable_directions`: 0 at a minimum, more at
+    a saddle); else ``negative`` is None.
 
     A factorisation of H + mu I (scaled variables) is kept for further steps (chord
     steps: each is a descent direction, the matrix being positive definite) while each
@@ -153,6 +157,7 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
     E, g, lv = prob.energy(z)
     order = dof_order(st.split(z, lev["n"])[0], lev)
     mu, steps, factorisations = 0.0, 0, 0
+    count = dict(hessians=0, indefinite=0, refused=0, chord=0)
     lu, fresh, relax_shift = None, False, False
     status = "iteration limit"
     while steps < max_iterations:
@@ -164,6 +169,7 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
             break
         if lu is None:
             H = prob.hessian(z, lv)
+            count["hessians"] += 1
             top = np.abs(H.diagonal()).max()
             if relax_shift:    # the last step was taken: try a smaller shift
                 mu *= 0.5
@@ -176,6 +182,7 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
                 factorisations += 1
                 if not neg:
                     break
+                count["indefinite"] += 1
                 if d is None and NEG_SCALE:
                     d = lu.negative_curvature(g)
                 mu = max(4 * mu, MU0 * top)
@@ -195,22 +202,60 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
             slow = np.abs(g1).max() > 0.5 * np.abs(g).max()
             z, E, g, lv = trial, E1, g1, lv1
             steps += 1
+            count["chord"] += not fresh
             if slow and not fresh:
                 lu = None
             fresh, relax_shift = False, True
         elif fresh:          # even a fresh factorisation's step fails: shift further
+            count["refused"] += 1
             mu = max(4 * mu, MU0 * top)
             lu, relax_shift = None, False
         else:                # a kept factorisation's step fails: factorise here, same shift
+            count["refused"] += 1
             lu, relax_shift = None, False
         if mu > 1e6 * top:
             status = "no step lowers the energy or the force"
             break
+    negative = None
+    if certify and status == "converged":
+        negative = unstable_directions(prob, z, lv, order)
+        factorisations += 1
     fx, fF = st.forces(z, with_near_pairs(st.split(z, lev["n"])[0], lev))
     fmax = max(fx, fF)
     return z, dict(fmax=fmax, iterations=steps, factorisations=factorisations,
                    evaluations=prob.evaluations, converged=fmax <= ftol, status=status,
-                   seconds=prob.seconds)
+                   seconds=prob.seconds, negative=negative, **count)
+
+
+def rigid_modes(z, n, unit):
+    """The three rigid motions at state ``z`` in scaled variables (columns, orthonormal):
+    the two translations and the rotation about the beads' centroid (beads turn, every F
+    turns with them: dF = W F, W the infinitesimal rotation)."""
+    x, F = st.split(z, n)
+    W = np.array([[0.0, -1.0], [1.0, 0.0]])
+    c = x - x.mean(axis=0)
+    modes = [st.join(np.tile(e, (n, 1)), np.zeros_like(F)) for e in np.eye(2)]
+    modes.append(st.join(c @ W.T, np.einsum("ab,nbc->nac", W, F)))
+    Q, _ = np.linalg.qr(np.column_stack(modes) / unit[:, None])
+    return Q
+
+
+def unstable_directions(prob, z, lv, order):
+    """The number of negative eigenvalues of the (scaled) Hessian at ``z``: 0 at a
+    minimum, more at a saddle; from the inertia of one factorisation of H + sigma I (None
+    if SuperLU pivoted off the diagonal). The rigid motions are H's null modes only at
+    zero force: off it their curvatures (Rayleigh quotients) are of the size of the
+    residual gradient, of either sign, so sigma is twice the largest of them in size
+    (plus RIGID_SHIFT of H's largest diagonal entry); a negative eigenvalue smaller than
+    sigma in size is not counted."""
+    H = prob.hessian(z, lv)
+    t = time.process_time()
+    Q = rigid_modes(z, prob.n, prob.unit)
+    top = np.abs(H.diagonal()).max()
+    sigma = 2 * np.abs(np.einsum("ik,ik->k", Q, H @ Q)).max() + RIGID_SHIFT * top
+    lu = Factors(H + sp.identity(H.shape[0]) * sigma, order)
+    prob.seconds["factorise"] += time.process_time() - t
+    return lu.negative
 
 
 #: at a fresh factorisation of an indefinite H, the step adds a direction of negative

@@ -65,6 +65,35 @@ def test_newton_reaches_relax_steady_state():
         <= 2 * np.abs(F_py).max() * bound
 
 
+def test_newton_certifies_its_steady_state_by_the_inertia():
+    """newton(certify=True) counts the negative eigenvalues of the scaled Hessian at its
+    final state from one factorisation's pivots (Sylvester), the rigid motions shifted off
+    by twice their largest curvature: none at the steady state (whose dense spectrum is 3
+    rigid modes and the rest positive; the rotation's curvature there, of the size of the
+    residual gradient, is negative and was counted with the shift of RIGID_SHIFT alone),
+    and at the kicked start (fluid under tension, the cells' flattening unstable) as many
+    as the dense eigenvalues below -sigma."""
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, sl.L)
+    geo = st.build(xy, sl.MAT, sl.BEST, local=True)
+    lev = st.at_level(geo, S)
+    n = geo["n"]
+    z0 = start(geo)
+    z, info = sn.newton(z0, lev, ftol=FTOL, certify=True)
+    assert info["converged"] and info["negative"] == 0
+    prob = sn.Problem(lev, FTOL)
+    for state in (z, z0):
+        _, _, lv = prob.energy(state)
+        H = prob.hessian(state, lv)
+        Q = sn.rigid_modes(state, n, prob.unit)
+        curvature = np.einsum("ik,ik->k", Q, H @ Q)
+        sigma = 2 * np.abs(curvature).max() + sn.RIGID_SHIFT * np.abs(H.diagonal()).max()
+        w = np.linalg.eigvalsh(H.toarray())
+        count = sn.unstable_directions(prob, state, lv, sn.dof_order(st.split(state, n)[0], lev))
+        assert count == np.sum(w < -sigma)
+    rigid = np.argsort(np.abs(w))[:3]
+    assert count > 0 and not np.isin(np.flatnonzero(w < -sigma), rigid).any()
+
+
 def test_study_model_shaped_writes_its_table(tmp_path, capsys):
     out = tmp_path / "out"
     assert cli.main(["study", "--model", "shaped", "--width", "0.5", "--height", "0.5",
