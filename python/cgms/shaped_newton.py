@@ -6,7 +6,8 @@ method on its exact sparse Hessian, for tissues where ``shaped_tensor.relax`` (a
 trust region) cannot hold the matrix. It converges (every level of tissues up to 1273
 beads measured) but needs hundreds of steps to leave the saddles, each with a sparse
 factorisation: slower than LAMMPS's cg, and out of reach at 20 273 beads
-(doc/results/shaped-lammps.md).
+(doc/results/shaped-lammps.md; where the steps go, doc/results/performance.md, "The
+shaped model's study at scale").
 
 Each fresh factorisation is of H + mu I in scaled variables (SciPy's SuperLU, geometric
 nested dissection, diagonal pivots, so that the signs of U's diagonal are the
