@@ -276,32 +276,77 @@ def accepted(E, g, E1, g1, p, rounding):
     return bool(abs(E1 - E) < rounding and np.abs(g1).max() < np.abs(g).max())
 
 
+def leave_saddles(z, lev, ftol, info, max_iterations, kick=1e-3, seed=1):
+    """From where :func:`newton` (run with ``certify``) stopped on a saddle (``info``'s
+    ``negative`` > 0: stationary, with directions of negative curvature): first every cell
+    flattened alike (:func:`cgms.shaped_start.flattened_copy`), then, at a saddle again,
+    every F kicked by a seeded uniform perturbation of up to ``kick`` (times sqrt(s)), and
+    Newton again, until a minimum or the iteration limit. Returns (z, info), the counts
+    summed over the restarts, ``saddles`` the number of restarts."""
+    from . import shaped_start
+    rng = np.random.default_rng(seed)
+    saddles = 0
+    while info["negative"] and info["iterations"] < max_iterations:
+        saddles += 1
+        z1 = shaped_start.flattened_copy(z, Problem(lev, ftol)) if saddles == 1 else None
+        if z1 is None:
+            x, F = st.split(z, lev["n"])
+            z1 = st.join(x, F + rng.uniform(-kick, kick, F.shape) * math.sqrt(lev["s"]))
+        z, more = newton(z1, lev, ftol, max_iterations - info["iterations"], certify=True)
+        for key in ("iterations", "factorisations", "evaluations", "hessians", "indefinite",
+                    "refused", "chord"):
+            more[key] += info[key]
+        more["seconds"] = {k: v + info["seconds"][k] for k, v in more["seconds"].items()}
+        info = more
+    info["saddles"] = saddles
+    return z, info
+
+
 #: the parameters of pair_style cgms/shaped's defaults (doc/pair_cgms_shaped.rst; the best
 #: set of doc/results/shaped-results.md), beyond cgms.shaped_tensor.DEFAULTS
 PAIR_DEFAULTS = {"soft": 0.002, "kg_ratio": 1.0, "strip": "contour", "lamella": 0.391,
                  "void": 0.063, "iso": 1.0, "beta_b": 0.04}
 
 
-def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=1000, progress=None):
+def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=1000, progress=None,
+          start="searched"):
     """The shaped model's study of the tissue built at ``xy``: a drying ramp over
     ``levels`` (wettest first; :func:`cgms.shaped_tensor.ramp`, kicked, each level
     warm-started from the previous one) solved by :func:`newton`, and one row per level
     as :func:`cgms.study.table` writes them: X/X0 (the fluid mass, fixed at s per level),
     A/A0, P/P0, EL/EL0 of the bead outline (normalised by the wettest level), steps
     (Newton steps), residual (the largest force, N), converged, wall and CPU seconds.
-    ``progress(s, info)`` is called after each level."""
-    from . import morphology
+    ``progress(s, info)`` is called after each level. ``start``: "searched", each level
+    from the previous state dilated and its flattening grown
+    (:func:`cgms.shaped_start.start`), Newton's state certified a minimum by the inertia
+    and, at a saddle, left (:func:`leave_saddles`); "kicked", the previous state shrunk by
+    sqrt(s / s_prev) and kicked, Newton's state not certified (the study before
+    2026-12-03's third session, :func:`cgms.shaped_tensor.ramp`'s default start)."""
+    from . import morphology, shaped_start
+    if start not in ("searched", "kicked"):
+        raise ValueError(f"start must be 'searched' or 'kicked', not {start!r}")
+    searched = start == "searched"
     p = dict(PAIR_DEFAULTS, **(params or {}))
 
+    clock = []                # set when the level's start begins
+
+    def begin(z, lev, tol):
+        clock[:] = [time.time(), time.process_time()]
+        return shaped_start.start(z, lev, tol)
+
     def solver(z, lev, tol):
-        t, c = time.time(), time.process_time()
-        z, info = newton(z, lev, tol, max_iterations)
+        t, c = clock or (time.time(), time.process_time())
+        clock.clear()
+        z, info = newton(z, lev, tol, max_iterations, certify=searched)
+        if searched:
+            z, info = leave_saddles(z, lev, tol, info, max_iterations)
         info.update(wall=time.time() - t, cpu=time.process_time() - c)
         if progress:
             progress(lev["s"], info)
         return z, info
 
-    geo, states = st.ramp(xy, mat, levels, p, ftol=ftol, local=True, solver=solver)
+    geo, states = st.ramp(xy, mat, levels, p, ftol=ftol, local=True, solver=solver,
+                          start=begin if searched else None)
     shapes = [morphology.measures(st.split(z, geo["n"])[0]) for _, z, _ in states]
     fresh = shapes[int(np.argmax([s for s, _, _ in states]))]
     rows = []
