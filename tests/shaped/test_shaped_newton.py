@@ -133,6 +133,7 @@ def test_study_model_shaped_writes_its_table(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "Newton (shaped)" in text
     assert "takes long" not in text      # a small tissue gets no note on its size
+    assert text.count("Newton steps, largest force") == 2 and text.count(", a minimum, ") == 2
     (table,) = out.glob("summary-*.csv")
     rows = list(csv.DictReader(table.open()))
     assert [float(r["s"]) for r in rows] == [1.0, 0.6]

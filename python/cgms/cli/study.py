@@ -186,8 +186,11 @@ def shaped_study_job(args):
                   "of that tissue in about a minute (doc/using.md)", flush=True)
 
         def progress(s, info):
+            negative = info.get("negative")
+            kind = ("a minimum" if negative == 0 else "not certified" if negative is None
+                    else f"a saddle ({negative} directions of negative curvature)")
             print(f"cgms: s = {s:g}: {info['iterations']} Newton steps, largest force "
-                  f"{info['fmax']:.1e} N, {info['wall']:.1f} s", flush=True)
+                  f"{info['fmax']:.1e} N, {kind}, {info['wall']:.1f} s", flush=True)
 
         _, _, rows = shaped_newton.study(t["xy"], mat, kept, max_iterations=min(
             args.max_steps, 10 ** 6), progress=progress)
