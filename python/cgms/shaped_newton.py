@@ -4,10 +4,11 @@
 """Steady states of the shaped tensor model (:mod:`cgms.shaped_tensor`) at scale: Newton's
 method on its exact sparse Hessian, for tissues where ``shaped_tensor.relax`` (a dense
 trust region) cannot hold the matrix. It converges (every level of tissues up to 1273
-beads measured) but needs hundreds of steps to leave the saddles, each with a sparse
-factorisation: slower than LAMMPS's cg, and out of reach at 20 273 beads
-(doc/results/shaped-lammps.md; where the steps go, doc/results/performance.md, "The
-shaped model's study at scale").
+beads measured); its study starts each level off the saddles (:mod:`cgms.shaped_start`)
+and certifies each state a minimum, but still needs tens of steps per level (walls
+crossing their buckling point, where the Hessian jumps), each with a sparse
+factorisation: slower than LAMMPS's cg, and far from a minute at 20 273 beads
+(doc/results/performance.md, "The shaped model's study at scale").
 
 Each fresh factorisation is of H + mu I in scaled variables (SciPy's SuperLU, geometric
 nested dissection, diagonal pivots, so that the signs of U's diagonal are the
@@ -311,8 +312,8 @@ PAIR_DEFAULTS = {"soft": 0.002, "kg_ratio": 1.0, "strip": "contour", "lamella": 
 def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=1000, progress=None,
           start="searched"):
     """The shaped model's study of the tissue built at ``xy``: a drying ramp over
-    ``levels`` (wettest first; :func:`cgms.shaped_tensor.ramp`, kicked, each level
-    warm-started from the previous one) solved by :func:`newton`, and one row per level
+    ``levels`` (wettest first; :func:`cgms.shaped_tensor.ramp`, each level started from
+    the previous one) solved by :func:`newton`, and one row per level
     as :func:`cgms.study.table` writes them: X/X0 (the fluid mass, fixed at s per level),
     A/A0, P/P0, EL/EL0 of the bead outline (normalised by the wettest level), steps
     (Newton steps), residual (the largest force, N), converged, wall and CPU seconds.
