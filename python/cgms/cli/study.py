@@ -151,7 +151,7 @@ SHAPED_REFUSED = {"method": ("--method", "quasistatic"), "fallback": ("--fallbac
 
 
 #: beads above which the shaped route says that LAMMPS is the faster way (1273 beads take
-#: about a minute for five levels; the cost grows faster than the bead count)
+#: about a minute of CPU for five levels; the cost grows faster than the bead count)
 SHAPED_LARGE = 5000
 
 
@@ -181,9 +181,10 @@ def shaped_study_job(args):
             print(left_out, flush=True)
         print(f"cgms: tissue: {n} beads ({t['what']}), model shaped (Newton)", flush=True)
         if n > SHAPED_LARGE:
-            print(f"cgms: note: Newton's method on {n} beads takes long (20 273 beads: 24 min "
-                  "for one level); LAMMPS minimize with pair_style cgms/shaped solves a level "
-                  "of that tissue in about a minute (doc/using.md)", flush=True)
+            print(f"cgms: note: Newton's method on {n} beads takes long (20 273 beads: 11 min "
+                  "for s = 0.8 on a loaded machine, longer where the cells first flatten); "
+                  "LAMMPS minimize with pair_style cgms/shaped solves a level of that tissue "
+                  "in about a minute (doc/using.md)", flush=True)
 
         def progress(s, info):
             negative = info.get("negative")
