@@ -182,7 +182,7 @@ def shaped_study_job(args):
         print(f"cgms: tissue: {n} beads ({t['what']}), model shaped (Newton)", flush=True)
         if n > SHAPED_LARGE:
             print(f"cgms: note: Newton's method on {n} beads takes long (20 273 beads: 11 min "
-                  "for s = 0.8 on a loaded machine, longer where the cells first flatten); "
+                  "for s = 0.8 and 33 min for s = 0.6 on a loaded machine); "
                   "LAMMPS minimize with pair_style cgms/shaped solves a level of that tissue "
                   "in about a minute (doc/using.md)", flush=True)
 
