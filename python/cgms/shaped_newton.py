@@ -4,9 +4,11 @@
 """Steady states of the shaped tensor model (:mod:`cgms.shaped_tensor`) at scale: Newton's
 method on its exact sparse Hessian, for tissues where ``shaped_tensor.relax`` (a dense
 trust region) cannot hold the matrix. It converges (every level of tissues up to 1273
-beads measured) but needs hundreds of steps to leave the saddles, each with a sparse
-factorisation: slower than LAMMPS's cg, and out of reach at 20 273 beads
-(doc/results/shaped-lammps.md).
+beads measured); its study starts each level off the saddles (:mod:`cgms.shaped_start`)
+and certifies each state a minimum, but still needs tens of steps per level (walls
+crossing their buckling point, where the Hessian jumps), each with a sparse
+factorisation: slower than LAMMPS's cg, and far from a minute at 20 273 beads
+(doc/results/performance.md, "The shaped model's study at scale").
 
 Each fresh factorisation is of H + mu I in scaled variables (SciPy's SuperLU, geometric
 nested dissection, diagonal pivots, so that the signs of U's diagonal are the
@@ -135,12 +137,16 @@ class Problem:
         return H
 
 
-def newton(z, lev, ftol=1e-9, max_iterations=200):
+def newton(z, lev, ftol=1e-9, max_iterations=200, certify=False):
     """The steady state from ``z`` at level ``lev`` (:func:`cgms.shaped_tensor.at_level`,
     of a tissue built with or without ``local``). Returns (z, info): info holds fmax (N,
     as :func:`cgms.shaped_tensor.forces`), iterations (steps taken), factorisations,
-    evaluations, converged, status, and the CPU seconds spent in energy, Hessian and
-    factorisation.
+    evaluations, converged, status, the CPU seconds spent in energy, Hessian and
+    factorisation, and the counts of Hessians assembled, factorisations found indefinite
+    (``indefinite``), steps refused and steps taken on a kept factorisation (``chord``).
+    With ``certify``, a converged state's Hessian is factorised once more and ``negative``
+    counts its negative eigenvalues (:func:`unstable_directions`: 0 at a minimum, more at
+    a saddle); else ``negative`` is None.
 
     A factorisation of H + mu I (scaled variables) is kept for further steps (chord
     steps: each is a descent direction, the matrix being positive definite) while each
@@ -153,6 +159,7 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
     E, g, lv = prob.energy(z)
     order = dof_order(st.split(z, lev["n"])[0], lev)
     mu, steps, factorisations = 0.0, 0, 0
+    count = dict(hessians=0, indefinite=0, refused=0, chord=0)
     lu, fresh, relax_shift = None, False, False
     status = "iteration limit"
     while steps < max_iterations:
@@ -164,6 +171,7 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
             break
         if lu is None:
             H = prob.hessian(z, lv)
+            count["hessians"] += 1
             top = np.abs(H.diagonal()).max()
             if relax_shift:    # the last step was taken: try a smaller shift
                 mu *= 0.5
@@ -176,6 +184,7 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
                 factorisations += 1
                 if not neg:
                     break
+                count["indefinite"] += 1
                 if d is None and NEG_SCALE:
                     d = lu.negative_curvature(g)
                 mu = max(4 * mu, MU0 * top)
@@ -195,22 +204,60 @@ def newton(z, lev, ftol=1e-9, max_iterations=200):
             slow = np.abs(g1).max() > 0.5 * np.abs(g).max()
             z, E, g, lv = trial, E1, g1, lv1
             steps += 1
+            count["chord"] += not fresh
             if slow and not fresh:
                 lu = None
             fresh, relax_shift = False, True
         elif fresh:          # even a fresh factorisation's step fails: shift further
+            count["refused"] += 1
             mu = max(4 * mu, MU0 * top)
             lu, relax_shift = None, False
         else:                # a kept factorisation's step fails: factorise here, same shift
+            count["refused"] += 1
             lu, relax_shift = None, False
         if mu > 1e6 * top:
             status = "no step lowers the energy or the force"
             break
+    negative = None
+    if certify and status == "converged":
+        negative = unstable_directions(prob, z, lv, order)
+        factorisations += 1
     fx, fF = st.forces(z, with_near_pairs(st.split(z, lev["n"])[0], lev))
     fmax = max(fx, fF)
     return z, dict(fmax=fmax, iterations=steps, factorisations=factorisations,
                    evaluations=prob.evaluations, converged=fmax <= ftol, status=status,
-                   seconds=prob.seconds)
+                   seconds=prob.seconds, negative=negative, **count)
+
+
+def rigid_modes(z, n, unit):
+    """The three rigid motions at state ``z`` in scaled variables (columns, orthonormal):
+    the two translations and the rotation about the beads' centroid (beads turn, every F
+    turns with them: dF = W F, W the infinitesimal rotation)."""
+    x, F = st.split(z, n)
+    W = np.array([[0.0, -1.0], [1.0, 0.0]])
+    c = x - x.mean(axis=0)
+    modes = [st.join(np.tile(e, (n, 1)), np.zeros_like(F)) for e in np.eye(2)]
+    modes.append(st.join(c @ W.T, np.einsum("ab,nbc->nac", W, F)))
+    Q, _ = np.linalg.qr(np.column_stack(modes) / unit[:, None])
+    return Q
+
+
+def unstable_directions(prob, z, lv, order):
+    """The number of negative eigenvalues of the (scaled) Hessian at ``z``: 0 at a
+    minimum, more at a saddle; from the inertia of one factorisation of H + sigma I (None
+    if SuperLU pivoted off the diagonal). The rigid motions are H's null modes only at
+    zero force: off it their curvatures (Rayleigh quotients) are of the size of the
+    residual gradient, of either sign, so sigma is twice the largest of them in size
+    (plus RIGID_SHIFT of H's largest diagonal entry); a negative eigenvalue smaller than
+    sigma in size is not counted."""
+    H = prob.hessian(z, lv)
+    t = time.process_time()
+    Q = rigid_modes(z, prob.n, prob.unit)
+    top = np.abs(H.diagonal()).max()
+    sigma = 2 * np.abs(np.einsum("ik,ik->k", Q, H @ Q)).max() + RIGID_SHIFT * top
+    lu = Factors(H + sp.identity(H.shape[0]) * sigma, order)
+    prob.seconds["factorise"] += time.process_time() - t
+    return lu.negative
 
 
 #: at a fresh factorisation of an indefinite H, the step adds a direction of negative
@@ -230,32 +277,77 @@ def accepted(E, g, E1, g1, p, rounding):
     return bool(abs(E1 - E) < rounding and np.abs(g1).max() < np.abs(g).max())
 
 
+def leave_saddles(z, lev, ftol, info, max_iterations, kick=1e-3, seed=1):
+    """From where :func:`newton` (run with ``certify``) stopped on a saddle (``info``'s
+    ``negative`` > 0: stationary, with directions of negative curvature): first every cell
+    flattened alike (:func:`cgms.shaped_start.flattened_copy`), then, at a saddle again,
+    every F kicked by a seeded uniform perturbation of up to ``kick`` (times sqrt(s)), and
+    Newton again, until a minimum or the iteration limit. Returns (z, info), the counts
+    summed over the restarts, ``saddles`` the number of restarts."""
+    from . import shaped_start
+    rng = np.random.default_rng(seed)
+    saddles = 0
+    while info["negative"] and info["iterations"] < max_iterations:
+        saddles += 1
+        z1 = shaped_start.flattened_copy(z, Problem(lev, ftol)) if saddles == 1 else None
+        if z1 is None:
+            x, F = st.split(z, lev["n"])
+            z1 = st.join(x, F + rng.uniform(-kick, kick, F.shape) * math.sqrt(lev["s"]))
+        z, more = newton(z1, lev, ftol, max_iterations - info["iterations"], certify=True)
+        for key in ("iterations", "factorisations", "evaluations", "hessians", "indefinite",
+                    "refused", "chord"):
+            more[key] += info[key]
+        more["seconds"] = {k: v + info["seconds"][k] for k, v in more["seconds"].items()}
+        info = more
+    info["saddles"] = saddles
+    return z, info
+
+
 #: the parameters of pair_style cgms/shaped's defaults (doc/pair_cgms_shaped.rst; the best
 #: set of doc/results/shaped-results.md), beyond cgms.shaped_tensor.DEFAULTS
 PAIR_DEFAULTS = {"soft": 0.002, "kg_ratio": 1.0, "strip": "contour", "lamella": 0.391,
                  "void": 0.063, "iso": 1.0, "beta_b": 0.04}
 
 
-def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=1000, progress=None):
+def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=1000, progress=None,
+          start="searched"):
     """The shaped model's study of the tissue built at ``xy``: a drying ramp over
-    ``levels`` (wettest first; :func:`cgms.shaped_tensor.ramp`, kicked, each level
-    warm-started from the previous one) solved by :func:`newton`, and one row per level
+    ``levels`` (wettest first; :func:`cgms.shaped_tensor.ramp`, each level started from
+    the previous one) solved by :func:`newton`, and one row per level
     as :func:`cgms.study.table` writes them: X/X0 (the fluid mass, fixed at s per level),
     A/A0, P/P0, EL/EL0 of the bead outline (normalised by the wettest level), steps
     (Newton steps), residual (the largest force, N), converged, wall and CPU seconds.
-    ``progress(s, info)`` is called after each level."""
-    from . import morphology
+    ``progress(s, info)`` is called after each level. ``start``: "searched", each level
+    from the previous state dilated and its flattening grown
+    (:func:`cgms.shaped_start.start`), Newton's state certified a minimum by the inertia
+    and, at a saddle, left (:func:`leave_saddles`); "kicked", the previous state shrunk by
+    sqrt(s / s_prev) and kicked, Newton's state not certified (the study before
+    2026-12-03's third session, :func:`cgms.shaped_tensor.ramp`'s default start)."""
+    from . import morphology, shaped_start
+    if start not in ("searched", "kicked"):
+        raise ValueError(f"start must be 'searched' or 'kicked', not {start!r}")
+    searched = start == "searched"
     p = dict(PAIR_DEFAULTS, **(params or {}))
 
+    clock = []                # set when the level's start begins
+
+    def begin(z, lev, tol):
+        clock[:] = [time.time(), time.process_time()]
+        return shaped_start.start(z, lev, tol)
+
     def solver(z, lev, tol):
-        t, c = time.time(), time.process_time()
-        z, info = newton(z, lev, tol, max_iterations)
+        t, c = clock or (time.time(), time.process_time())
+        clock.clear()
+        z, info = newton(z, lev, tol, max_iterations, certify=searched)
+        if searched:
+            z, info = leave_saddles(z, lev, tol, info, max_iterations)
         info.update(wall=time.time() - t, cpu=time.process_time() - c)
         if progress:
             progress(lev["s"], info)
         return z, info
 
-    geo, states = st.ramp(xy, mat, levels, p, ftol=ftol, local=True, solver=solver)
+    geo, states = st.ramp(xy, mat, levels, p, ftol=ftol, local=True, solver=solver,
+                          start=begin if searched else None)
     shapes = [morphology.measures(st.split(z, geo["n"])[0]) for _, z, _ in states]
     fresh = shapes[int(np.argmax([s for s, _, _ in states]))]
     rows = []

@@ -524,13 +524,15 @@ def relax(z, lev, ftol=1e-9, maxiter=500):
 
 
 def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1, local=False,
-         solver=None):
+         solver=None, start=None):
     """Steady states along a drying ramp from the built tissue: each level starts from the
     previous state shrunk isotropically by sqrt(s / s_prev) (beads about their centroid,
     every F), every F kicked by a seeded uniform perturbation of up to ``kick`` (to leave
     the symmetric saddle where no cell flattens). ``local`` builds without (n, n) arrays
     (:func:`build`); ``solver(z, lev, ftol)`` replaces :func:`relax` (e.g.
-    :func:`cgms.shaped_newton.newton`). Returns (geometry, [(s, z, info)])."""
+    :func:`cgms.shaped_newton.newton`); ``start(z, lev, ftol)``, the level's start from
+    the previous state, replaces the shrink and the kick (e.g.
+    :func:`cgms.shaped_start.start`). Returns (geometry, [(s, z, info)])."""
     geo = build(xy0, mat, params, local=local)
     rng = np.random.default_rng(seed)
     z = fresh_state(geo)
@@ -539,6 +541,10 @@ def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1, local=Fals
     prev = 1.0
     for s in levels:
         lev = at_level(geo, s)
+        if start:
+            z, info = (solver or relax)(start(z, lev, ftol), lev, ftol)
+            out.append((s, z, info))
+            continue
         x, F = split(z, n)
         f = math.sqrt(s / prev)
         c = x.mean(axis=0)

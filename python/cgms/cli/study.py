@@ -151,7 +151,7 @@ SHAPED_REFUSED = {"method": ("--method", "quasistatic"), "fallback": ("--fallbac
 
 
 #: beads above which the shaped route says that LAMMPS is the faster way (1273 beads take
-#: about a minute for five levels; the cost grows faster than the bead count)
+#: about a minute of CPU for five levels; the cost grows faster than the bead count)
 SHAPED_LARGE = 5000
 
 
@@ -181,13 +181,17 @@ def shaped_study_job(args):
             print(left_out, flush=True)
         print(f"cgms: tissue: {n} beads ({t['what']}), model shaped (Newton)", flush=True)
         if n > SHAPED_LARGE:
-            print(f"cgms: note: Newton's method on {n} beads takes long (20 273 beads: 24 min "
-                  "for one level); LAMMPS minimize with pair_style cgms/shaped solves a level "
-                  "of that tissue in about a minute (doc/using.md)", flush=True)
+            print(f"cgms: note: Newton's method on {n} beads takes long (20 273 beads: 11 min "
+                  "for s = 0.8 and 33 min for s = 0.6 on a loaded machine); "
+                  "LAMMPS minimize with pair_style cgms/shaped solves a level of that tissue "
+                  "in about a minute (doc/using.md)", flush=True)
 
         def progress(s, info):
+            negative = info.get("negative")
+            kind = ("a minimum" if negative == 0 else "not certified" if negative is None
+                    else f"a saddle ({negative} directions of negative curvature)")
             print(f"cgms: s = {s:g}: {info['iterations']} Newton steps, largest force "
-                  f"{info['fmax']:.1e} N, {info['wall']:.1f} s", flush=True)
+                  f"{info['fmax']:.1e} N, {kind}, {info['wall']:.1f} s", flush=True)
 
         _, _, rows = shaped_newton.study(t["xy"], mat, kept, max_iterations=min(
             args.max_steps, 10 ** 6), progress=progress)
