@@ -51,10 +51,11 @@ from . import model, shaped, shaped_mean, superpose
 #: ``net_shear``: the bead network's own shear, a free traceless tensor T_i per cell that
 #: every bond of the cell follows (None: off, T absent from the state), with its shear
 #: modulus mu(s) (N/m): a number, or [[s, mu], ...] interpolated as ln mu linear in s and
-#: held beyond the ends (:func:`net_shear_modulus`)
+#: held beyond the ends (:func:`net_shear_modulus`); ``shear_smooth``: the weight of the
+#: differences of T between bonded cells (0: each cell's shear free of its neighbours')
 DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
                 smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim", dev_mean=0.0,
-                dev_hops=2, net_shear=None)
+                dev_hops=2, net_shear=None, shear_smooth=0.0)
 
 
 def _cof(F):
@@ -123,6 +124,9 @@ def build(xy0, mat, params=None, spacing=None, local=False):
             geo["boundary"][bonds[:, 0]] | geo["boundary"][bonds[:, 1]]
         geo["iso"] = np.where(edge, float(p["iso_rim"]), float(p["iso"]))
     geo["net_shear"] = _shear_table(p["net_shear"])
+    geo["shear_smooth"] = float(p["shear_smooth"])
+    if not geo["shear_smooth"] >= 0:
+        raise ValueError(f"shear_smooth must be >= 0, not {p['shear_smooth']!r}")
     if geo["net_shear"] is not None and p["dev_mean"]:
         raise ValueError("net_shear and dev_mean are two network shears: use one")
     geo["dev_mean"] = float(p["dev_mean"])
@@ -202,11 +206,24 @@ def shear(z, n):
 
 
 def _shear_energy(T, lev):
-    """The network's shear energy 2 mu sum_i A_poly0,i |T_i|^2, with its gradient (n, 2)
-    and its constant diagonal Hessian (n): mu the modulus for a shear strain T / sqrt(det
-    F) over the cell's area det(F) A_poly0, in which det F cancels."""
-    c = 2 * lev["mu_net"] * lev["poly_area0"]
-    return float(np.sum(c * np.sum(T * T, axis=1))), 2 * c[:, None] * T, 2 * c
+    """The network's shear energy 2 mu sum_i A_poly0,i |T_i|^2 plus, with ``shear_smooth``
+    c, its smoothness 2 mu c sum_(bonds ik) (A_poly0,i + A_poly0,k) / 2 |T_i - T_k|^2: the
+    energy, its gradient (n, 2) and its constant Hessian in one component of T (n, n,
+    sparse; the same for u and v). mu is the modulus for a shear strain T / sqrt(det F)
+    over the cell's area det(F) A_poly0, in which det F cancels."""
+    n, mu, A0 = lev["n"], lev["mu_net"], lev["poly_area0"]
+    H1 = sp.diags(4 * mu * A0)
+    c = lev["shear_smooth"]
+    if c:
+        i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
+        w = 2 * mu * c * (A0[i] + A0[k])          # d2/dT_i^2 of w / 2 |T_i - T_k|^2
+        L = sp.coo_matrix((np.concatenate([w, w, -w, -w]),
+                           (np.concatenate([i, k, i, k]), np.concatenate([i, k, k, i]))),
+                          shape=(n, n))
+        H1 = H1 + L
+    H1 = sp.csr_matrix(H1)
+    g = H1 @ T
+    return 0.5 * float(np.sum(T * g)), g, H1
 
 
 def align(z, ref, n=None):
@@ -546,9 +563,11 @@ def hessian(z, lev):
     Hm = Hm + sp.csr_matrix((Hx.data, (Hx.row, Hx.col)), shape=(N, N))
     T = shear(z, n)
     if T is not None:
-        diag = np.zeros(N)
-        diag[6 * n:] = np.repeat(_shear_energy(T, lev)[2], 2)
-        Hm = Hm + sp.diags(diag)
+        H1 = _shear_energy(T, lev)[2].tocoo()
+        Hm = Hm + sp.csr_matrix((np.concatenate([H1.data, H1.data]),
+                                 (np.concatenate([6 * n + 2 * H1.row, 6 * n + 2 * H1.row + 1]),
+                                  np.concatenate([6 * n + 2 * H1.col, 6 * n + 2 * H1.col + 1]))),
+                                shape=(N, N))
     return sp.csr_matrix(Hm)
 
 

@@ -347,19 +347,21 @@ def test_neighbourhood_weights_of_the_local_build():
 SHEAR_TABLE = [[0.3, 0.4], [0.6, 0.1], [1.0, 2.5]]
 
 
-def sheared_state(iso, s=0.6, seed=9):
+def sheared_state(iso, s=0.6, seed=9, smooth=0.0):
     """:func:`dried_state` with the network's shear on and every cell's (u, v) random
     within +-0.1, so that the shear terms of the target and of J are exercised."""
-    z, lev = dried_state(s=s, seed=seed, params=dict(GAP, iso=iso, net_shear=SHEAR_TABLE))
+    z, lev = dried_state(s=s, seed=seed, params=dict(GAP, iso=iso, net_shear=SHEAR_TABLE,
+                                                     shear_smooth=smooth))
     T = np.random.default_rng(seed).uniform(-0.1, 0.1, (lev["n"], 2))
     return np.concatenate([z, T.ravel()]), lev
 
 
-@pytest.mark.parametrize("iso", [0.0, 0.5, 1.0])
-def test_network_shear_derivatives(iso):
+@pytest.mark.parametrize("iso, smooth", [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 3.0)])
+def test_network_shear_derivatives(iso, smooth):
     """Bond targets G d0 + T d0 with J = det F + |T|^2 in the isotropic part, and the
-    shear energy 2 mu A0 |T|^2, in the gradient and the Hessian against differences."""
-    z, lev = sheared_state(iso)
+    shear energy 2 mu A0 |T|^2 (with its smoothness over the bonds), in the gradient and
+    the Hessian against differences."""
+    z, lev = sheared_state(iso, smooth=smooth)
     n = lev["n"]
     u = np.concatenate([units(n), np.ones(2 * n)])
     E, g = st.energy(z, lev)
@@ -405,6 +407,8 @@ def test_network_shear_modulus_table():
     for bad in (-1.0, [[0.3, 0.0]], [0.3, 0.4]):
         with pytest.raises(ValueError, match="net_shear"):
             st.build(xy, MAT, dict(net_shear=bad))
+    with pytest.raises(ValueError, match="shear_smooth"):
+        st.build(xy, MAT, dict(net_shear=0.5, shear_smooth=-1))
     with pytest.raises(ValueError, match="net_shear and dev_mean"):
         st.build(xy, MAT, dict(net_shear=0.5, dev_mean=0.5))
 
