@@ -48,9 +48,14 @@ from . import model, shaped, shaped_mean, superpose
 #: ``dev_mean``: the share of the neighbourhood's mean deviatoric stretch (the anticonformal
 #: part of F) in every bond target (0: off), over the cells within ``dev_hops`` steps
 #: (:mod:`cgms.shaped_mean`)
+#: ``net_shear``: the bead network's own shear, a free traceless tensor T_i per cell that
+#: every bond of the cell follows (None: off, T absent from the state), with its shear
+#: modulus mu(s) (N/m): a number, or [[s, mu], ...] interpolated as ln mu linear in s and
+#: held beyond the ends (:func:`net_shear_modulus`); ``shear_smooth``: the weight of the
+#: differences of T between bonded cells (0: each cell's shear free of its neighbours')
 DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
                 smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim", dev_mean=0.0,
-                dev_hops=2)
+                dev_hops=2, net_shear=None, shear_smooth=0.0)
 
 
 def _cof(F):
@@ -118,12 +123,36 @@ def build(xy0, mat, params=None, spacing=None, local=False):
         edge = geo["rim"] if p["rim_class"] == "rim" else \
             geo["boundary"][bonds[:, 0]] | geo["boundary"][bonds[:, 1]]
         geo["iso"] = np.where(edge, float(p["iso_rim"]), float(p["iso"]))
+    geo["net_shear"] = _shear_table(p["net_shear"])
+    geo["shear_smooth"] = float(p["shear_smooth"])
+    if not geo["shear_smooth"] >= 0:
+        raise ValueError(f"shear_smooth must be >= 0, not {p['shear_smooth']!r}")
+    if geo["net_shear"] is not None and p["dev_mean"]:
+        raise ValueError("net_shear and dev_mean are two network shears: use one")
     geo["dev_mean"] = float(p["dev_mean"])
     if geo["dev_mean"]:
         geo["dev_weights"] = shaped_mean.bond_weights(geo["n"], bonds, p["dev_hops"])
     if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
     return geo
+
+
+def _shear_table(value):
+    """``net_shear`` as an (m, 2) array of (s, mu) rows in increasing s, or None (off)."""
+    if value is None:
+        return None
+    t = np.array([[1.0, value]], float) if np.ndim(value) == 0 else np.array(value, float)
+    if t.ndim != 2 or t.shape[1] != 2 or not np.all(t[:, 1] > 0) or not np.all(t[:, 0] > 0):
+        raise ValueError(f"net_shear must be a modulus > 0 (N/m) or [[s, mu], ...] pairs "
+                         f"with s > 0 and mu > 0, not {value!r}")
+    return t[np.argsort(t[:, 0])]
+
+
+def net_shear_modulus(table, s):
+    """The network's shear modulus mu(s) (N/m) of a ``net_shear`` table: ln mu linear in s
+    between its points, held beyond its ends (**Decision**: the fine model's modulus is
+    measured at the levels only, and neither falls nor rises steadily between them)."""
+    return float(np.exp(np.interp(s, table[:, 0], np.log(table[:, 1]))))
 
 
 def _fresh_with_void(geo, mat):
@@ -152,7 +181,8 @@ def at_level(geo, s):
     f = np.repeat(np.where(geo["rim"], beta, 1.0), 2)
     C = sp.csr_matrix(geo["Cx"] - sp.diags(f) @ geo["Cf"])
     f_bond = np.where(geo["rim"], beta, 1.0)
-    return dict(geo, s=s, beta=beta, A_f=s * geo["A_f0"], P_T=s * mat["P_f"], rest=rest,
+    mu = None if geo["net_shear"] is None else net_shear_modulus(geo["net_shear"], s)
+    return dict(geo, s=s, mu_net=mu, beta=beta, A_f=s * geo["A_f0"], P_T=s * mat["P_f"], rest=rest,
                 C=C, f_bond=f_bond, r_lj=float(model.lj_radius(mat, s)),
                 rest_sum=np.bincount(geo["cell"], rest, minlength=geo["n"]),
                 delta=geo["smooth"] * geo["eps"] * rest,
@@ -160,28 +190,61 @@ def at_level(geo, s):
 
 
 def split(z, n):
-    """(x (n, 2), F (n, 2, 2)) of a state vector."""
+    """(x (n, 2), F (n, 2, 2)) of a state vector (the network's shear, if any: :func:`shear`)."""
     z = np.asarray(z, float)
-    return z[:2 * n].reshape(n, 2), z[2 * n:].reshape(n, 2, 2)
+    return z[:2 * n].reshape(n, 2), z[2 * n:6 * n].reshape(n, 2, 2)
 
 
-def join(x, F):
-    return np.concatenate([np.ravel(x), np.ravel(F)])
+def join(x, F, T=None):
+    return np.concatenate([np.ravel(x), np.ravel(F)] + ([] if T is None else [np.ravel(T)]))
 
 
-def align(z, ref):
+def shear(z, n):
+    """The network's shear (u, v) per cell (n, 2) of a state vector, or None (without
+    ``net_shear`` a state holds x and F only)."""
+    return np.asarray(z, float)[6 * n:].reshape(n, 2) if len(z) > 6 * n else None
+
+
+def _shear_energy(T, lev):
+    """The network's shear energy 2 mu sum_i A_poly0,i |T_i|^2 plus, with ``shear_smooth``
+    c, its smoothness 2 mu c sum_(bonds ik) (A_poly0,i + A_poly0,k) / 2 |T_i - T_k|^2: the
+    energy, its gradient (n, 2) and its constant Hessian in one component of T (n, n,
+    sparse; the same for u and v). mu is the modulus for a shear strain T / sqrt(det F)
+    over the cell's area det(F) A_poly0, in which det F cancels."""
+    n, mu, A0 = lev["n"], lev["mu_net"], lev["poly_area0"]
+    H1 = sp.diags(4 * mu * A0)
+    c = lev["shear_smooth"]
+    if c:
+        i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
+        w = 2 * mu * c * (A0[i] + A0[k])          # d2/dT_i^2 of w / 2 |T_i - T_k|^2
+        L = sp.coo_matrix((np.concatenate([w, w, -w, -w]),
+                           (np.concatenate([i, k, i, k]), np.concatenate([i, k, k, i]))),
+                          shape=(n, n))
+        H1 = H1 + L
+    H1 = sp.csr_matrix(H1)
+    g = H1 @ T
+    return 0.5 * float(np.sum(T * g)), g, H1
+
+
+def align(z, ref, n=None):
     """State ``z`` moved rigidly onto the positions of ``ref`` (a steady state is one up to
-    a rigid motion): x -> R x + t, and every F -> R F (:func:`cgms.superpose.rotation`)."""
-    n = len(z) // 6
+    a rigid motion): x -> R x + t, every F -> R F and, with the network's shear, every
+    (u, v) -> R (u, v). ``n`` the number of cells (default: 6 numbers per cell, no shear)."""
+    n = len(z) // 6 if n is None else n
     x, F = split(z, n)
     xr, _ = split(ref, n)
     R = superpose.rotation(x, xr)
-    return join(superpose.align(x, xr, "rigid"), np.einsum("ab,nbc->nac", R, F))
+    T = shear(z, n)     # R [[u, v], [v, -u]] = [[u', v'], [v', -u']] with (u', v') = R (u, v)
+    return join(superpose.align(x, xr, "rigid"), np.einsum("ab,nbc->nac", R, F),
+                None if T is None else T @ R.T)
 
 
 def fresh_state(geo):
-    """The built tissue: beads where they were built, every F the identity."""
-    return join(geo["x0"], np.broadcast_to(np.eye(2), (geo["n"], 2, 2)))
+    """The built tissue: beads where they were built, every F the identity (and, with
+    ``net_shear``, the network unsheared)."""
+    n = geo["n"]
+    return join(geo["x0"], np.broadcast_to(np.eye(2), (n, 2, 2)),
+                None if geo.get("net_shear") is None else np.zeros((n, 2)))
 
 
 def contour_length(chord, lev):
@@ -270,20 +333,30 @@ _DP = np.array([1.0, 0.0, 0.0, 1.0])        # d(a + d)/dF, F flattened (a, b, c,
 _DQ = np.array([0.0, -1.0, 1.0, 0.0])       # d(c - b)/dF
 
 
-def _iso_scale(F):
-    """phi = sqrt(det F) / r with r = |(a + d, c - b)|, so that phi [[p, -q], [q, p]] =
-    sqrt(det F) R(F), R the rotation of F's polar decomposition; with p, q and phi's first
-    (n, 4) and second (n, 4, 4) derivatives."""
+def _iso_scale(F, T=None):
+    """phi = sqrt(J) / r with r = |(a + d, c - b)|, so that phi [[p, -q], [q, p]] =
+    sqrt(J) R(F), R the rotation of F's polar decomposition; J = det F, or with the
+    network's shear ``T`` (n, 2) J = det F + |T|^2, which keeps the network map's
+    determinant at det F (:func:`_bond_target`). Returns p, q, phi and phi's first (n, m)
+    and second (n, m, m) derivatives in the cell's m = 4 numbers of F (6 with T: F, T)."""
     a, b, c, d = F[:, 0, 0], F[:, 0, 1], F[:, 1, 0], F[:, 1, 1]
+    m = 4 if T is None else 6
     J = a * d - b * c
     p, q = a + d, c - b
     r = np.hypot(p, q)
-    gJ = np.stack([d, -c, -b, a], -1)
-    D2 = np.zeros((4, 4))
+    gJ = np.zeros((len(F), m))
+    gJ[:, :4] = np.stack([d, -c, -b, a], -1)
+    D2 = np.zeros((m, m))
     D2[0, 3] = D2[3, 0] = 1.0
     D2[1, 2] = D2[2, 1] = -1.0
-    gr = (p[:, None] * _DP + q[:, None] * _DQ) / r[:, None]
-    hr = ((np.outer(_DP, _DP) + np.outer(_DQ, _DQ))[None] - gr[:, :, None] * gr[:, None, :]) \
+    if T is not None:
+        J = J + T[:, 0] ** 2 + T[:, 1] ** 2
+        gJ[:, 4:] = 2 * T
+        D2[4, 4] = D2[5, 5] = 2.0
+    dp, dq = np.zeros(m), np.zeros(m)
+    dp[:4], dq[:4] = _DP, _DQ
+    gr = (p[:, None] * dp + q[:, None] * dq) / r[:, None]
+    hr = ((np.outer(dp, dp) + np.outer(dq, dq))[None] - gr[:, :, None] * gr[:, None, :]) \
         / r[:, None, None]
     phi = np.sqrt(J) / r
     gphi = phi[:, None] * (gJ / (2 * J[:, None]) - gr / r[:, None])
@@ -300,27 +373,37 @@ def _linear(iso):
     return np.ndim(iso) == 0 and not iso
 
 
-def _bond_target(F, d0, iso, order=1):
-    """v = G(F) d0 per bond, G = (1 - iso) F + iso sqrt(det F) R(F); with dv/dF (b, 2, 4)
-    and, with ``order`` 2, d2v/dF2 (b, 2, 4, 4). ``iso`` a number or one per bond."""
+def _bond_target(F, d0, iso, order=1, T=None):
+    """v = G d0 per bond, G = (1 - iso) F + iso sqrt(J) R(F) + T, T = [[u, v], [v, -u]]
+    the network's own shear of the cell (``T`` (b, 2) its (u, v), or None: no shear) and J
+    = det F + |T|^2, so that det(sqrt(J) R + T) = det F: the network shears at the cells'
+    area. Returns v with dv/d(F, T) (b, 2, m) and, with ``order`` 2, d2v (b, 2, m, m), m = 4
+    without T, 6 with. ``iso`` a number or one per bond."""
     if np.ndim(iso):
         iso = np.asarray(iso, float)[:, None]
-        v, dv, *d2v = _bond_target(F, d0, 1.0, order)
-        lin = _bond_target(F, d0, 0.0, 1)
+        v, dv, *d2v = _bond_target(F, d0, 1.0, order, T)
+        lin = _bond_target(F, d0, 0.0, 1, T)
         out = ((1 - iso) * lin[0] + iso * v,
                (1 - iso[:, :, None]) * lin[1] + iso[:, :, None] * dv)
         return out + (iso[:, :, None, None] * d2v[0],) if order == 2 else out
+    m = 4 if T is None else 6
     e = d0                                       # (M d0)_c = p e_c + q h_c
     h = np.stack([-d0[:, 1], d0[:, 0]], -1)
-    p, q, phi, gphi, hphi = _iso_scale(F)
+    p, q, phi, gphi, hphi = _iso_scale(F, T)
     Fd = np.einsum("bcj,bj->bc", F, d0)
     Md = p[:, None] * e + q[:, None] * h
     v = (1 - iso) * Fd + iso * phi[:, None] * Md
-    gF = np.zeros((len(F), 2, 4))
+    gF = np.zeros((len(F), 2, m))
     for c in range(2):
         gF[:, c, 2 * c:2 * c + 2] = d0
-    gM = e[:, :, None] * _DP + h[:, :, None] * _DQ   # (b, 2, 4)
+    gM = np.zeros((len(F), 2, m))
+    gM[:, :, :4] = e[:, :, None] * _DP + h[:, :, None] * _DQ
     dv = (1 - iso) * gF + iso * (Md[:, :, None] * gphi[:, None, :] + phi[:, None, None] * gM)
+    if T is not None:                            # T d0 = (u e_x + v e_y, v e_x - u e_y)
+        v = v + np.stack([T[:, 0] * d0[:, 0] + T[:, 1] * d0[:, 1],
+                          T[:, 1] * d0[:, 0] - T[:, 0] * d0[:, 1]], -1)
+        dv[:, 0, 4], dv[:, 0, 5] = dv[:, 0, 4] + d0[:, 0], dv[:, 0, 5] + d0[:, 1]
+        dv[:, 1, 4], dv[:, 1, 5] = dv[:, 1, 4] - d0[:, 1], dv[:, 1, 5] + d0[:, 0]
     if order == 1:
         return v, dv
     cross = gphi[:, None, :, None] * gM[:, :, None, :]
@@ -342,12 +425,13 @@ def _deviatoric(F):
 
 def mismatch(z, lev):
     """Every bond's mismatch m_b (flattened, 2 per bond)."""
-    if _linear(lev["iso"]) and not lev["dev_mean"]:
+    T = shear(z, lev["n"])
+    if _linear(lev["iso"]) and not lev["dev_mean"] and T is None:
         return lev["C"] @ z
     x, F = split(z, lev["n"])
     i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
-    t = (_bond_target(F[i], lev["bond0"], lev["iso"])[0]
-         + _bond_target(F[k], lev["bond0"], lev["iso"])[0])
+    t = (_bond_target(F[i], lev["bond0"], lev["iso"], T=None if T is None else T[i])[0]
+         + _bond_target(F[k], lev["bond0"], lev["iso"], T=None if T is None else T[k])[0])
     m = x[k] - x[i] - 0.5 * lev["f_bond"][:, None] * t
     if lev["dev_mean"]:
         m = m - shaped_mean.shift(_deviatoric(F)[0], lev)
@@ -356,48 +440,60 @@ def mismatch(z, lev):
 
 def compatibility(z, lev, order=1):
     """The middle lamella's compatibility k_g / 2 sum_b |m_b|^2, m_b = x_k - x_i - f_b
-    (G(F_i) + G(F_k)) d0_b / 2: its energy and gradient (6n), with ``order`` 2 also its
-    Hessian (sparse). With ``iso`` 0 the map is linear (lev["C"]); with ``dev_mean`` the
-    bonds also follow the neighbourhood's flattening (:mod:`cgms.shaped_mean`)."""
+    (G_i + G_k) d0_b / 2 (:func:`_bond_target`): its energy and gradient (len(z)), with
+    ``order`` 2 also its Hessian (sparse). With ``iso`` 0 and no shear the map is linear
+    (lev["C"]); with ``dev_mean`` the bonds also follow the neighbourhood's flattening
+    (:mod:`cgms.shaped_mean`); with ``net_shear`` each cell's own network shear T."""
     n, k_g = lev["n"], lev["k_g"]
-    if _linear(lev["iso"]) and not lev["dev_mean"]:
+    T = shear(z, n)
+    if _linear(lev["iso"]) and not lev["dev_mean"] and T is None:
         m = lev["C"] @ z
         out = (0.5 * k_g * m @ m, k_g * (lev["C"].T @ m))
         return out + (k_g * (lev["C"].T @ lev["C"]),) if order == 2 else out
     x, F = split(z, n)
     i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
     d0, f = lev["bond0"], lev["f_bond"]
-    ti = _bond_target(F[i], d0, lev["iso"], order)
-    tk = _bond_target(F[k], d0, lev["iso"], order)
+    ti = _bond_target(F[i], d0, lev["iso"], order, None if T is None else T[i])
+    tk = _bond_target(F[k], d0, lev["iso"], order, None if T is None else T[k])
     if lev["dev_mean"]:
         return shaped_mean.compatibility(x, F, lev, ti, tk, _deviatoric(F), order)
+    mc = ti[1].shape[2]                              # 4 numbers per cell, 6 with T
     m = x[k] - x[i] - 0.5 * f[:, None] * (ti[0] + tk[0])
     gx = np.zeros((n, 2))
     np.add.at(gx, k, k_g * m)
     np.add.at(gx, i, -k_g * m)
-    dFi = -0.5 * f[:, None, None] * ti[1]            # dm/dF_i (b, 2, 4)
+    dFi = -0.5 * f[:, None, None] * ti[1]            # dm/d(F, T)_i (b, 2, mc)
     dFk = -0.5 * f[:, None, None] * tk[1]
-    gF = np.zeros((n, 4))
+    gF = np.zeros((n, mc))
     np.add.at(gF, i, k_g * np.einsum("bc,bcj->bj", m, dFi))
     np.add.at(gF, k, k_g * np.einsum("bc,bcj->bj", m, dFk))
-    E, g = 0.5 * k_g * np.sum(m * m), join(gx, gF)
+    E = 0.5 * k_g * np.sum(m * m)
+    g = join(gx, gF[:, :4], None if T is None else gF[:, 4:])
     if order == 1:
         return E, g
-    nb = len(i)
-    Jm = np.zeros((nb, 2, 12))                     # columns: x_i, x_k, F_i, F_k
+    nb, w = len(i), 4 + 2 * mc
+    Jm = np.zeros((nb, 2, w))                     # columns: x_i, x_k, (F, T)_i, (F, T)_k
     Jm[:, :, 0:2] = -np.eye(2)
     Jm[:, :, 2:4] = np.eye(2)
-    Jm[:, :, 4:8] = dFi
-    Jm[:, :, 8:12] = dFk
+    Jm[:, :, 4:4 + mc] = dFi
+    Jm[:, :, 4 + mc:] = dFk
     blk = k_g * np.einsum("bci,bcj->bij", Jm, Jm)
-    blk[:, 4:8, 4:8] -= 0.5 * k_g * np.einsum("b,bc,bcij->bij", f, m, ti[2])
-    blk[:, 8:12, 8:12] -= 0.5 * k_g * np.einsum("b,bc,bcij->bij", f, m, tk[2])
+    blk[:, 4:4 + mc, 4:4 + mc] -= 0.5 * k_g * np.einsum("b,bc,bcij->bij", f, m, ti[2])
+    blk[:, 4 + mc:, 4 + mc:] -= 0.5 * k_g * np.einsum("b,bc,bcij->bij", f, m, tk[2])
     idx = np.concatenate([2 * i[:, None] + np.arange(2), 2 * k[:, None] + np.arange(2),
-                          2 * n + 4 * i[:, None] + np.arange(4),
-                          2 * n + 4 * k[:, None] + np.arange(4)], axis=1)
-    rows = np.repeat(idx, 12, axis=1).ravel()
-    cols = np.tile(idx, (1, 12)).ravel()
-    return E, g, sp.csr_matrix((blk.ravel(), (rows, cols)), shape=(6 * n, 6 * n))
+                          _cell_columns(i, n, mc), _cell_columns(k, n, mc)], axis=1)
+    rows = np.repeat(idx, w, axis=1).ravel()
+    cols = np.tile(idx, (1, w)).ravel()
+    N = len(z)
+    return E, g, sp.csr_matrix((blk.ravel(), (rows, cols)), shape=(N, N))
+
+
+def _cell_columns(cells, n, mc):
+    """The state vector's columns of the cells' F (4) and, with mc 6, their shear (2)."""
+    cols = [2 * n + 4 * cells[:, None] + np.arange(4)]
+    if mc == 6:
+        cols.append(6 * n + 2 * cells[:, None] + np.arange(2))
+    return np.concatenate(cols, axis=1)
 
 
 def cells(z, lev):
@@ -423,17 +519,21 @@ def energy(z, lev, gradient=True):
     x, F, c, chord, A, e_w, de_w, m, H, K = _terms(z, lev)
     n = lev["n"]
     if np.any(A <= 0):
-        return (np.inf, np.full(6 * n, np.nan)) if gradient else np.inf
+        return (np.inf, np.full(len(z), np.nan)) if gradient else np.inf
     E_lj, g_lj = shaped.lj_energy(x, lev)
     E_c, g_c = compatibility(z, lev)
     E = shaped.fluid_energy(A, lev["A_f"], lev["P_T"], K, H).sum() + e_w.sum() + E_c + E_lj
+    T = shear(z, n)
+    if T is not None:
+        E_T, g_T, _ = _shear_energy(T, lev)
+        E += E_T
     if not gradient:
         return E
     f1 = -H * shaped.tait_pressure(A, lev["A_f"], lev["P_T"], K)      # dE/dA
     _, gA = fluid_area(F, c, chord, lev, order=1)
     gl, _ = _chord_derivatives(c, chord, lev)
     gF = f1[:, None] * gA + _per_cell(de_w[:, None] * gl, lev)
-    return E, join(g_lj, gF) + g_c
+    return E, join(g_lj, gF, None if T is None else g_T) + g_c
 
 
 def hessian(z, lev):
@@ -456,10 +556,18 @@ def hessian(z, lev):
     idx = 2 * n + 4 * np.arange(n)[:, None] + np.arange(4)[None]
     rows = np.repeat(idx, 4, axis=1).ravel()
     cols = np.tile(idx, (1, 4)).ravel()
-    Hm = sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(6 * n, 6 * n))
+    N = len(z)
+    Hm = sp.csr_matrix((blocks.ravel(), (rows, cols)), shape=(N, N))
     Hm = Hm + compatibility(z, lev, order=2)[2]
     Hx = shaped.lj_hessian(x, lev).tocoo()
-    Hm = Hm + sp.csr_matrix((Hx.data, (Hx.row, Hx.col)), shape=(6 * n, 6 * n))
+    Hm = Hm + sp.csr_matrix((Hx.data, (Hx.row, Hx.col)), shape=(N, N))
+    T = shear(z, n)
+    if T is not None:
+        H1 = _shear_energy(T, lev)[2].tocoo()
+        Hm = Hm + sp.csr_matrix((np.concatenate([H1.data, H1.data]),
+                                 (np.concatenate([6 * n + 2 * H1.row, 6 * n + 2 * H1.row + 1]),
+                                  np.concatenate([6 * n + 2 * H1.col, 6 * n + 2 * H1.col + 1]))),
+                                shape=(N, N))
     return sp.csr_matrix(Hm)
 
 
@@ -483,8 +591,8 @@ def cell_measures(z, lev):
 
 
 def forces(z, lev):
-    """Largest force on a bead (N) and largest generalised force on a shape tensor,
-    dE/dF / x_ref (N)."""
+    """Largest force on a bead (N) and largest generalised force on a shape tensor (and on
+    the network's shear), dE/dF / x_ref (N)."""
     _, g = energy(z, lev)
     n = lev["n"]
     return float(np.abs(g[:2 * n]).max()), float(np.abs(g[2 * n:]).max() / lev["mat"]["x_ref"])
@@ -500,12 +608,13 @@ def relax(z, lev, ftol=1e-9, maxiter=500):
     L = lev["mat"]["x_ref"]
     x0, F0 = split(z, n)
     c0 = x0.mean(axis=0)
-    unit = np.concatenate([np.full(2 * n, L), np.ones(4 * n)])
+    unit = np.concatenate([np.full(2 * n, L), np.ones(len(z) - 2 * n)])
     scale = ftol * L
 
     def state(y):
-        x, F = split(y * unit, n)
-        return join(x + c0, F)
+        y = y * unit
+        y[:2 * n] += np.tile(c0, n)
+        return y
 
     def fun(y):
         E, g = energy(state(y), lev)
@@ -514,7 +623,9 @@ def relax(z, lev, ftol=1e-9, maxiter=500):
     def hess(y):
         return hessian(state(y), lev).toarray() * np.outer(unit, unit) / scale
 
-    res = minimize(fun, join(x0 - c0, F0) / unit, jac=True, hess=hess, method="trust-exact",
+    y0 = np.asarray(z, float).copy()
+    y0[:2 * n] -= np.tile(c0, n)
+    res = minimize(fun, y0 / unit, jac=True, hess=hess, method="trust-exact",
                    options=dict(maxiter=maxiter, gtol=1.0, initial_trust_radius=0.02,
                                 max_trust_radius=0.2))
     zs = state(res.x)
@@ -546,13 +657,14 @@ def ramp(xy0, mat, levels, params=None, ftol=1e-9, kick=1e-3, seed=1, local=Fals
             out.append((s, z, info))
             continue
         x, F = split(z, n)
+        T = shear(z, n)
         f = math.sqrt(s / prev)
         c = x.mean(axis=0)
         x = c + (x - c) * f
         F = F * f
         if kick and s < 1:
             F = F + rng.uniform(-kick, kick, F.shape) * math.sqrt(s)
-        z, info = (solver or relax)(join(x, F), lev, ftol)
+        z, info = (solver or relax)(join(x, F, None if T is None else T * f), lev, ftol)
         out.append((s, z, info))
         prev = s
     return geo, out

@@ -127,9 +127,11 @@ def model_states(tissue, params):
 def saved_states(tissue, folder):
     """Bead positions per level of a state file written by table.py --save; with the
     shape tensors F per level."""
+    sys.path.insert(0, str(ROOT / "studies" / "shaped"))
+    import table
     from cgms import shaped_tensor
     d = np.load(Path(folder) / f"{tissue}.npz")
-    n = d["states"].shape[1] // 6
+    n = len(table.layout(tissue)[1])       # 6 numbers a cell, 8 with the network's shear
     out = {f"{s:g}": shaped_tensor.split(z, n) for s, z in zip(d["levels"], d["states"])}
     return {k: v[0] for k, v in out.items()}, {k: v[1] for k, v in out.items()}
 

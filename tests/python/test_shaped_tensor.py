@@ -341,3 +341,96 @@ def test_neighbourhood_weights_of_the_local_build():
     order = [row[tuple(sorted(b))] for b in dense["bonds"]]
     np.testing.assert_array_equal(local["dev_weights"][order].toarray(),
                                   dense["dev_weights"].toarray())
+
+
+#: the network's own shear (``net_shear``): a modulus table over s (N/m)
+SHEAR_TABLE = [[0.3, 0.4], [0.6, 0.1], [1.0, 2.5]]
+
+
+def sheared_state(iso, s=0.6, seed=9, smooth=0.0):
+    """:func:`dried_state` with the network's shear on and every cell's (u, v) random
+    within +-0.1, so that the shear terms of the target and of J are exercised."""
+    z, lev = dried_state(s=s, seed=seed, params=dict(GAP, iso=iso, net_shear=SHEAR_TABLE,
+                                                     shear_smooth=smooth))
+    T = np.random.default_rng(seed).uniform(-0.1, 0.1, (lev["n"], 2))
+    return np.concatenate([z, T.ravel()]), lev
+
+
+@pytest.mark.parametrize("iso, smooth", [(0.0, 0.0), (0.5, 0.0), (1.0, 0.0), (1.0, 3.0)])
+def test_network_shear_derivatives(iso, smooth):
+    """Bond targets G d0 + T d0 with J = det F + |T|^2 in the isotropic part, and the
+    shear energy 2 mu A0 |T|^2 (with its smoothness over the bonds), in the gradient and
+    the Hessian against differences."""
+    z, lev = sheared_state(iso, smooth=smooth)
+    n = lev["n"]
+    u = np.concatenate([units(n), np.ones(2 * n)])
+    E, g = st.energy(z, lev)
+    assert_matches_differences(g * u, lambda y: st.energy(y * u, lev, gradient=False),
+                               z / u, 1e-5, abs(E))
+    Hs = st.hessian(z, lev).toarray() * np.outer(u, u)
+    assert_matches_differences(Hs, lambda y: st.energy(y * u, lev)[1] * u, z / u, 1e-5,
+                               gradient_scale(z, lev))
+
+
+def test_network_shear_keeps_the_cells_area_and_is_invariant():
+    """sqrt(det F + |T|^2) R(F) + T has the determinant det F (the network shears at the
+    cells' area); rotating every bead, F and (u, v) leaves the energy; align undoes it."""
+    z, lev = sheared_state(1.0, s=0.3, seed=7)
+    n = lev["n"]
+    x, F = st.split(z, n)
+    T = st.shear(z, n)
+    p, q, phi, _, _ = st._iso_scale(F, T)
+    N = phi[:, None, None] * np.stack([np.stack([p, -q], -1), np.stack([q, p], -1)], 1) \
+        + np.stack([np.stack([T[:, 0], T[:, 1]], -1), np.stack([T[:, 1], -T[:, 0]], -1)], 1)
+    np.testing.assert_allclose(np.linalg.det(N), np.linalg.det(F), rtol=0, atol=64 * EPS)
+    c, s = math.cos(0.7), math.sin(0.7)
+    R = np.array([[c, -s], [s, c]])
+    moved = st.join(x @ R.T + np.array([3e-4, -2e-4]), R @ F, T @ R.T)
+    E = st.energy(z, lev, gradient=False)
+    m = 64 * len(lev["cell"])
+    assert abs(st.energy(moved, lev, gradient=False) - E) <= m * EPS * (
+        abs(E) + gradient_scale(z, lev))
+    back = st.align(moved, z, n)
+    np.testing.assert_allclose(back, z, rtol=0, atol=1e-12)
+
+
+def test_network_shear_modulus_table():
+    """mu(s): the table's values at its points, ln mu linear between, held beyond; a bad
+    table or both network shears at once are refused by name."""
+    t = st._shear_table(SHEAR_TABLE)
+    for s, mu in SHEAR_TABLE:
+        assert st.net_shear_modulus(t, s) == pytest.approx(mu, rel=4 * EPS)
+    assert st.net_shear_modulus(t, 0.45) == pytest.approx(math.sqrt(0.4 * 0.1), rel=1e-12)
+    assert st.net_shear_modulus(t, 0.1) == pytest.approx(0.4, rel=4 * EPS)
+    assert st.net_shear_modulus(st._shear_table(0.7), 0.3) == 0.7
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, L)
+    for bad in (-1.0, [[0.3, 0.0]], [0.3, 0.4]):
+        with pytest.raises(ValueError, match="net_shear"):
+            st.build(xy, MAT, dict(net_shear=bad))
+    with pytest.raises(ValueError, match="shear_smooth"):
+        st.build(xy, MAT, dict(net_shear=0.5, shear_smooth=-1))
+    with pytest.raises(ValueError, match="net_shear and dev_mean"):
+        st.build(xy, MAT, dict(net_shear=0.5, dev_mean=0.5))
+
+
+def test_network_shear_off_leaves_the_state_and_the_committed_model():
+    """Without ``net_shear`` (the default) a state holds x and F only, and the energy,
+    gradient and Hessian are those of the committed path bit for bit; with it, a state
+    without shear (T = 0) has the committed energy, and its fresh state is in balance."""
+    params = dict(GAP, iso=1.0, beta_b=0.04, soft=0.002)
+    z, lev = dried_state(s=0.6, seed=9, params=params)
+    assert lev["mu_net"] is None and st.shear(z, lev["n"]) is None
+    _, lev_s = dried_state(s=0.6, seed=9, params=dict(params, net_shear=SHEAR_TABLE))
+    zs = np.concatenate([z, np.zeros(2 * lev["n"])])
+    E, g = st.energy(z, lev)
+    Es, gs = st.energy(zs, lev_s)
+    assert Es == pytest.approx(E, rel=64 * EPS, abs=0)
+    np.testing.assert_allclose(gs[:6 * lev["n"]], g, rtol=0,
+                               atol=64 * EPS * gradient_scale(z, lev) / L)
+    xy = tissue.rectangle(1.25e-3, 1.5e-3, L)
+    geo = st.build(xy, MAT, dict(GAP, iso=1.0, net_shear=SHEAR_TABLE, void_onset=0.5,
+                                 smooth=0.25))
+    fx, fF = st.forces(st.fresh_state(geo), st.at_level(geo, 1.0))
+    tension = geo["wall_EA"] * geo["eps"]
+    assert len(st.fresh_state(geo)) == 8 * geo["n"]
+    assert max(fx, fF) <= 64 * 24 * EPS * tension
