@@ -67,8 +67,9 @@ def dof_order(x, lev):
     """An elimination order of the unknowns: the beads by geometric nested dissection
     (:func:`cgms.solve.nested_dissection`; two beads share a Hessian entry only when
     bonded or closer than r_lj, so bands of half the longest such distance, with 20 %
-    to spare for the level's motion, separate), each bead's x, F (and network shear). On 20 273 beads it
-    halves SuperLU's time against its minimum-degree ordering (7.8 s against 17.4 s)."""
+    to spare for the level's motion, separate), each bead's x, F (and network shear). On
+    20 273 beads it halves SuperLU's time against its minimum-degree ordering (7.8 s
+    against 17.4 s)."""
     from . import solve
     b = lev["bonds"]
     reach = max(float(np.hypot(*(x[b[:, 1]] - x[b[:, 0]]).T).max()), lev["r_lj"])

@@ -84,13 +84,17 @@ def start(z, lev, ftol=1e-9):
     stationary point, then (flattened cells) the flattening grown to the stationary point."""
     prob = sn.Problem(lev, ftol)
     x, F = st.split(z, prob.n)
-    centred = st.join(np.broadcast_to(x.mean(axis=0), x.shape), np.zeros_like(F))
+    T = st.shear(z, prob.n)           # the network's shear, if any, dilates with the rest
+    centred = st.join(np.broadcast_to(x.mean(axis=0), x.shape), np.zeros_like(F),
+                      None if T is None else np.zeros_like(T))
     t = stationary(_slope_along(prob, centred, z - centred), 1.0, 0.02, 1e-6)
     if t is not None:
         z = centred + t * (z - centred)
     if flattened(z, prob.n):
         x, F = st.split(z, prob.n)
-        dz = st.join(np.zeros_like(x), st._deviatoric(F)[0])
+        T = st.shear(z, prob.n)
+        dz = st.join(np.zeros_like(x), st._deviatoric(F)[0],
+                     None if T is None else np.zeros_like(T))
         m = stationary(_slope_along(prob, z, dz), 0.0, 0.05, 1e-6)
         if m is not None:
             z = z + m * dz
@@ -103,12 +107,13 @@ def flattened_copy(z, prob):
     ``AMPLITUDES`` with the lowest energy on that axis. None when it is not below the
     energy of ``z``."""
     x, F = st.split(z, prob.n)
+    T = st.shear(z, prob.n)
 
     def moved(m, degrees):
         a = math.radians(degrees)
         D = math.cos(2 * a) * DEVIATORIC[0] + math.sin(2 * a) * DEVIATORIC[1]
         G = (np.eye(2) + m * D) / math.sqrt(1 - m * m)
-        return st.join(x, np.einsum("ab,nbc->nac", G, F))
+        return st.join(x, np.einsum("ab,nbc->nac", G, F), T)
 
     def energy(m, degrees):
         return prob.energy(moved(m, degrees))[0]
