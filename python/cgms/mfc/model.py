@@ -42,11 +42,13 @@ MFC = dict(
 
 #: a self-avoidance strength (J) that holds the pressed layers of a dried wall's folds apart:
 #: the most its repulsion resists a wall particle pushed through the gap of a bond at the
-#: s = 0.3 rest length (3.96 um) is 3.4e-4 N, 10 x the largest own-cell contact force measured
-#: in dried tissues (2-3e-5 N), where E0 = 1e-12 J resists 3.4e-5 N and the layers passed
-#: through each other (doc/mfc.md, "Wall self-avoidance"). An option (``cgms mfc --self-E0``),
-#: not the default: the committed references were made with :data:`MFC`'s value
-SELF_E0_FOLDS = 1.0e-11
+#: s = 0.3 rest length (3.96 um) is 3.4e-3 N, 10 x the largest force a ramp stage starts
+#: with (3.3e-4 N) and 100 x the contact forces of folds at rest (2-3e-5 N); E0 = 1e-12 J
+#: resists 3.4e-5 N and the layers passed through each other, 1e-11 J still let the
+#: 86-cell tissue cross at s = 0.4 (doc/mfc.md, "Wall self-avoidance"). An option
+#: (``cgms mfc --self-E0``), not the default: it moves the dried levels from s = 0.6 on, and
+#: the committed references were made with :data:`MFC`'s value
+SELF_E0_FOLDS = 1.0e-10
 
 #: temperature in the mechanics (doc/drying.md, "Temperature in the mechanics"). Without a
 #: temperature the material's values stand as they are: those of unheated fresh tissue.
