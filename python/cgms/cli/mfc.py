@@ -37,6 +37,11 @@ def arguments(q):
                    help="tissue temperature, C: walls and lamella softened and turgor scaled "
                         "as doc/drying.md's \"Temperature in the mechanics\" says (default: "
                         "none, the material's unheated values)")
+    q.add_argument("--self-E0", type=positive_float, default=mfc_model.MFC["self_E0"],
+                   help="strength E0 of a wall's self-avoidance (8-4 LJ within 3 um), J "
+                        f"(default %(default)g; {mfc_model.SELF_E0_FOLDS:g} keeps the folds of "
+                        "dried walls from passing through each other: doc/mfc.md, "
+                        "\"Wall self-avoidance\")")
     q.add_argument("--ftol", type=positive_float, default=mfc_run.DEFAULTS["ftol"],
                    help="steady state: largest force on a wall particle, N (default %(default)g)")
     q.add_argument("--shift", type=positive_float, default=mfc_run.DEFAULTS["shift"],
@@ -97,7 +102,7 @@ def main(args):
                          f"{mfc_model.HEAT['T_max']:g} (C, liquid cell water), got {T}")
     names = list(tissue.MICROSCALE) if args.tissues == ["all"] else args.tissues
     try:
-        p = mfc_model.parameters(args.material, temperature=T)
+        p = mfc_model.parameters(args.material, temperature=T, self_E0=args.self_E0)
     except (ValueError, OSError) as err:    # a material file missing or wrong: an input
         raise UsageError(str(err).strip('"')) from None
     folder_of = {}

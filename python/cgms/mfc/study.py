@@ -28,6 +28,7 @@ import numpy as np
 
 from .. import folders, morphology, positions, run, study
 from . import metrics as mfc_metrics, run as mfc_run, tissue as mfc_tissue
+from .model import SELF_E0_FOLDS
 from ..study import level_name
 
 
@@ -161,8 +162,10 @@ class RingFailure(RuntimeError):
             "no level finished")
         cure = ("--resume with --dryness holding a level between s = "
                 f"{previous:g} and {s:g} continues from the last finished level; a gentler "
-                "ramp (--stage) or another --seed needs a new --out; the fine model may not "
-                "reach this dryness (doc/mfc.md)" if previous is not None else
+                "ramp (--stage), another --seed or a stronger self-avoidance (--self-E0 "
+                f"{SELF_E0_FOLDS:g}: dried folds pressed through themselves) needs a new "
+                "--out; the fine model may not reach this dryness (doc/mfc.md)"
+                if previous is not None else
                 "check the cell centres: the built walls of adjacent cells must not overlap")
         super().__init__(f"{where}: {err}, so the level has no cell measures; {kept}; the "
                          f"walls where it stopped are in {dump.name} (OVITO); {cure}")
