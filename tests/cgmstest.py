@@ -391,3 +391,13 @@ def run_cli(capsys, *args):
     out, err = capsys.readouterr()
     assert "Traceback" not in err
     return status, err, out
+
+
+def run_then_dump(steps, restart=None):
+    """The end of a test input: ``steps`` steps (with ``restart`` written halfway, so that
+    a run read back from it can be compared), then every atom's state at full precision
+    in final.dump."""
+    lines = ([f"run {steps // 2}", f"write_restart {restart}", f"run {steps - steps // 2}"]
+             if restart else [f"run {steps}"])
+    return lines + ["write_dump all custom final.dump id mol x y z vx vy vz fx fy fz "
+                    "modify sort id format float %.17g"]

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from cgmstest import PLUGIN, new_lammps, read_dump, run_lmp
+from cgmstest import PLUGIN, new_lammps, read_dump, run_lmp, run_then_dump
 
 from cgms.mfc import cell3d, model as mfc_model, run3d, study3d, tissue3d
 
@@ -200,13 +200,7 @@ def pair_script(w, nprocs=1, newton="on", steps=200, restart=None, read=None,
               "thermo_style custom step pe ke", "thermo 50"]
     if damp:
         lines.insert(-3, "fix damp all viscous 1e-9")
-    if restart:
-        lines += [f"run {steps // 2}", f"write_restart {restart}", f"run {steps - steps // 2}"]
-    else:
-        lines += [f"run {steps}"]
-    lines += ["write_dump all custom final.dump id mol x y z vx vy vz fx fy fz "
-              "modify sort id format float %.17g"]
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + run_then_dump(steps, restart)) + "\n"
 
 
 @pytest.mark.lammps
