@@ -7,7 +7,7 @@ the mean of the cells' deviatoric stretch over a neighbourhood, so that a flatte
 by the cells around a bond shears the bead network while each cell's own does not.
 
 Cell j's deviatoric stretch is the anticonformal part of its F, D_j = (V_j - tr V_j / 2) R_j
-for F_j = V_j R_j (:func:`cgms.shaped_tensor._deviatoric`): its flattening at its size, in
+for F_j = V_j R_j (:func:`cgms.shaped_target.deviatoric`): its flattening at its size, in
 its own frame, linear in F_j and traceless, so that cells flattened in every direction
 average to no shear and to no change of area. The bond ik's mismatch gains
 
@@ -56,7 +56,7 @@ def shift(D, lev):
 def compatibility(x, F, lev, ti, tk, dev, order=1):
     """k_g / 2 sum_b |m_b|^2 with m_b = x_k - x_i - f (t_i + t_k) / 2 - :func:`shift`:
     energy and gradient (6n), with ``order`` 2 also the Hessian (sparse). ``ti``, ``tk``:
-    the own cells' targets with their derivatives (shaped_tensor._bond_target, per bond);
+    the own cells' targets with their derivatives (shaped_target.bond_target, per bond);
     ``dev``: D (n, 2, 2) and its constant dD/dF (n, 2, 2, 4). The Hessian is k_g J^T J
     plus the own targets' second derivatives contracted with m, per bond on F_i and F_k
     (D is linear in F: the term adds none)."""

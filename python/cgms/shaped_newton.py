@@ -336,7 +336,7 @@ def study(xy, mat, levels, params=None, ftol=1e-9, max_iterations=1000, progress
 
     def begin(z, lev, tol):
         clock[:] = [time.time(), time.process_time()]
-        return shaped_start.start(z, lev, tol)
+        return shaped_start.start(z, Problem(lev, tol))
 
     def solver(z, lev, tol):
         t, c = clock or (time.time(), time.process_time())

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from . import shaped_newton as sn, shaped_tensor as st
+from . import shaped_target as target, shaped_tensor as st
 
 #: a tissue counts as flattened when its median cell's deviatoric part exceeds this share
 #: of the cell's size
@@ -75,14 +75,15 @@ def flattened(z, n):
     """True when the median cell's deviatoric part, relative to its size, exceeds
     ``FLATTENED``."""
     F = st.split(z, n)[1]
-    dev = np.linalg.norm(st._deviatoric(F)[0], axis=(1, 2))
+    dev = np.linalg.norm(target.deviatoric(F)[0], axis=(1, 2))
     return bool(np.median(dev / np.sqrt(np.abs(np.linalg.det(F)))) > FLATTENED)
 
 
-def start(z, lev, ftol=1e-9):
-    """The start of level ``lev`` from the previous level's state ``z``: dilated to the
-    stationary point, then (flattened cells) the flattening grown to the stationary point."""
-    prob = sn.Problem(lev, ftol)
+def start(z, prob):
+    """The start of a level from the previous level's state ``z``: dilated to the
+    stationary point, then (flattened cells) the flattening grown to the stationary point.
+    ``prob``: the level's scaled energy (:class:`cgms.shaped_newton.Problem`, passed in so
+    that this module does not import the solver that calls it)."""
     x, F = st.split(z, prob.n)
     T = st.shear(z, prob.n)           # the network's shear, if any, dilates with the rest
     centred = st.join(np.broadcast_to(x.mean(axis=0), x.shape), np.zeros_like(F),
@@ -93,7 +94,7 @@ def start(z, lev, ftol=1e-9):
     if flattened(z, prob.n):
         x, F = st.split(z, prob.n)
         T = st.shear(z, prob.n)
-        dz = st.join(np.zeros_like(x), st._deviatoric(F)[0],
+        dz = st.join(np.zeros_like(x), target.deviatoric(F)[0],
                      None if T is None else np.zeros_like(T))
         m = stationary(_slope_along(prob, z, dz), 0.0, 0.05, 1e-6)
         if m is not None:

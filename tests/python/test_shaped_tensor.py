@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import cgmstest  # noqa: F401 - puts python/ on the path
-from cgms import material, shaped, shaped_tensor as st, tissue
+from cgms import material, shaped, shaped_target as target, shaped_tensor as st, tissue
 from test_shaped import assert_matches_differences
 
 MAT = material.read("apple")
@@ -233,7 +233,7 @@ def test_isotropic_target_ignores_the_cells_flattening():
     th, J, k = 0.4, 0.3, 1.8
     R = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
     F = np.broadcast_to(math.sqrt(J) * R @ np.diag([k, 1 / k]) @ R.T @ R, (5, 2, 2))
-    v, _ = st._bond_target(np.ascontiguousarray(F), d0, 1.0)
+    v, _ = target.bond_target(np.ascontiguousarray(F), d0, 1.0)
     np.testing.assert_allclose(v, math.sqrt(J) * d0 @ R.T, rtol=0, atol=16 * EPS)
 
 
@@ -279,7 +279,7 @@ def test_deviatoric_stretch_is_the_flattening_at_the_cells_size():
     Q = np.array([[math.cos(th), -math.sin(th)], [math.sin(th), math.cos(th)]])
     P = np.array([[math.cos(1.1), -math.sin(1.1)], [math.sin(1.1), math.cos(1.1)]])
     V = math.sqrt(J) * P @ np.diag([k, 1 / k]) @ P.T
-    D, _ = st._deviatoric(np.stack([math.sqrt(J) * Q, V, V @ Q, Q @ V]))
+    D, _ = target.deviatoric(np.stack([math.sqrt(J) * Q, V, V @ Q, Q @ V]))
     np.testing.assert_allclose(D[0], 0.0, rtol=0, atol=16 * EPS)
     want = math.sqrt(J) * (k - 1 / k) / 2 * P @ np.diag([1.0, -1.0]) @ P.T
     np.testing.assert_allclose(D[1], want, rtol=0, atol=16 * EPS)
@@ -371,7 +371,7 @@ def test_network_shear_keeps_the_cells_area_and_is_invariant():
     n = lev["n"]
     x, F = st.split(z, n)
     T = st.shear(z, n)
-    p, q, phi, _, _ = st._iso_scale(F, T)
+    p, q, phi, _, _ = target.iso_scale(F, T)
     N = phi[:, None, None] * np.stack([np.stack([p, -q], -1), np.stack([q, p], -1)], 1) \
         + np.stack([np.stack([T[:, 0], T[:, 1]], -1), np.stack([T[:, 1], -T[:, 0]], -1)], 1)
     np.testing.assert_allclose(np.linalg.det(N), np.linalg.det(F), rtol=0, atol=64 * EPS)
