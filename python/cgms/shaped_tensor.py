@@ -348,9 +348,10 @@ def mismatch(z, lev):
 def compatibility(z, lev, order=1):
     """The middle lamella's compatibility k_g / 2 sum_b |m_b|^2, m_b = x_k - x_i - f_b
     (G_i + G_k) d0_b / 2 (:func:`cgms.shaped_target.bond_target`): its energy and gradient
-    (len(z)), with ``order`` 2 also its Hessian (sparse). With ``iso`` 0 and no shear the map is linear
-    (lev["C"]); with ``dev_mean`` the bonds also follow the neighbourhood's flattening
-    (:mod:`cgms.shaped_mean`); with ``net_shear`` each cell's own network shear T."""
+    (len(z)), with ``order`` 2 also its Hessian (sparse). With ``iso`` 0 and no shear the
+    map is linear (lev["C"]); with ``dev_mean`` the bonds also follow the neighbourhood's
+    flattening (:mod:`cgms.shaped_mean`); with ``net_shear`` each cell's own network shear
+    T."""
     n, k_g = lev["n"], lev["k_g"]
     T = shear(z, n)
     if target.linear(lev["iso"]) and not lev["dev_mean"] and T is None:
