@@ -174,11 +174,10 @@ def rst_blocks(path, title="Examples"):
     return [(lang, "\n".join(r[3:] for r in body.splitlines())) for lang, body in blocks]
 
 
-def run_example(folder, nprocs):
-    """The Examples of doc/fix_mfc_pressure.rst: the Python block writes the data file, the
-    LAMMPS block (its plugin path made this build's) minimises it. Returns the force
-    tolerance, the largest force component left and the wall positions by atom ID."""
-    blocks = rst_blocks("doc/fix_mfc_pressure.rst")
+def example_script(page, folder):
+    """Run the one Python block of a style page's Examples in ``folder`` (it writes the
+    data file) and return its one LAMMPS block with this build's plugin path."""
+    blocks = rst_blocks(page)
     python = [b for lang, b in blocks if lang == "python"]
     lammps = [b for lang, b in blocks if lang == "LAMMPS"]
     assert len(python) == 1 and len(lammps) == 1
@@ -187,6 +186,14 @@ def run_example(folder, nprocs):
     subprocess.run([sys.executable, "-c", python[0]], cwd=folder, env=env, check=True)
     script = lammps[0].replace("/path/to/cgms/build/cgmsplugin.so", PLUGIN)
     assert script != lammps[0]
+    return script
+
+
+def run_example(folder, nprocs):
+    """The Examples of doc/fix_mfc_pressure.rst: the Python block writes the data file, the
+    LAMMPS block (its plugin path made this build's) minimises it. Returns the force
+    tolerance, the largest force component left and the wall positions by atom ID."""
+    script = example_script("doc/fix_mfc_pressure.rst", folder)
     ftol = float(re.search(r"^minimize\s+\S+\s+(\S+)", script, re.M).group(1))
     script += ("\nwrite_dump all custom walls.dump id x y modify sort id format float %.17g\n"
                'print "FMAX $(fmax:%.17g)"\n')

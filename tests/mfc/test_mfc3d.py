@@ -306,18 +306,8 @@ def test_fix_mfc_pressure3d_example_runs_as_written(tmp_path):
     """The Examples of doc/fix_mfc_pressure3d.rst: the Python block writes the cell, the
     LAMMPS block (its plugin path made this build's, its volume the builder's) minimises
     it to a steady state."""
-    import subprocess
-    import sys
-    from cgmstest import ROOT, lammps_env
-    from errors.test_mfc_styles_errors import rst_blocks
-    blocks = rst_blocks("doc/fix_mfc_pressure3d.rst")
-    python = [b for lang, b in blocks if lang == "python"]
-    lammps = [b for lang, b in blocks if lang == "LAMMPS"]
-    assert len(python) == 1 and len(lammps) == 1
-    env = lammps_env()
-    env["PYTHONPATH"] = str(ROOT / "python")
-    subprocess.run([sys.executable, "-c", python[0]], cwd=tmp_path, env=env, check=True)
-    script = lammps[0].replace("/path/to/cgms/build/cgmsplugin.so", PLUGIN)
+    from errors.test_mfc_styles_errors import example_script
+    script = example_script("doc/fix_mfc_pressure3d.rst", tmp_path)
     w = cell3d.wall(P, 3)
     assert f"volume {w['fluid_volume']:.15e}" in script
     proc = run_lmp(tmp_path, script + '\nprint "FMAX $(fmax:%.17g)"\n')
