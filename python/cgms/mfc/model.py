@@ -22,8 +22,8 @@ MFC = dict(
     per_side=16,             # wall particles per hexagon side: 96 per cell (Wijerathne 2019 2.1)
     wall_Et=330.0,           # wall extensional stiffness E t, N/m: 4.5 % turgid strain
     wall_thickness=1.0e-6,   # wall thickness t, m (bending k_b = E H t^3 / (12 r0_b))
-    self_E0=1.0e-12,         # wall self-avoidance: 8-4 LJ, repulsive only, E0 = f0/8, J;
-                             # too weak for the folds of dried walls (SELF_E0_FOLDS)
+    self_E0=1.0e-10,         # wall self-avoidance: 8-4 LJ, repulsive only, E0 = f0/8, J;
+                             # holds the folds of dried walls apart (SELF_E0_FOLDS)
     self_r0=3.0e-6,          # its radius (= cutoff), m: below the shortest bond (3.96 um)
     lamella_E0=1.45e-11,     # middle lamella: 8-4 LJ between walls of adjacent cells, J
     lamella_rc=12.0e-6,      # its cutoff, m (its radius is the pectin layer d_p)
@@ -45,9 +45,9 @@ MFC = dict(
 #: s = 0.3 rest length (3.96 um) is 3.4e-3 N, 10 x the largest force a ramp stage starts
 #: with (3.3e-4 N) and 100 x the contact forces of folds at rest (2-3e-5 N); E0 = 1e-12 J
 #: resists 3.4e-5 N and the layers passed through each other, 1e-11 J still let the
-#: 86-cell tissue cross at s = 0.4 (doc/mfc.md, "Wall self-avoidance"). An option
-#: (``cgms mfc --self-E0``), not the default: it moves the dried levels from s = 0.6 on, and
-#: the committed references were made with :data:`MFC`'s value
+#: 86-cell tissue cross at s = 0.4 (doc/mfc.md, "Wall self-avoidance"). The default
+#: (:data:`MFC`), since a reference whose walls pass through themselves is not a tissue;
+#: it leaves every state without wall contact unchanged (s = 1 and 0.8 bit-identical)
 SELF_E0_FOLDS = 1.0e-10
 
 #: temperature in the mechanics (doc/drying.md, "Temperature in the mechanics"). Without a
