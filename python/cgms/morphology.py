@@ -36,8 +36,9 @@ MAX_EDGE_FACTOR = 1.5
 #: ``max_edge`` factor for the fine model's cell centroids: its dried cells flatten (their
 #: elongation 1.8-2.5 at s = 0.3), so their centroids are irregular and at 1.5 the outline
 #: drops cells and counts holes from s = 0.4 on (the 86-cell tissue at s = 0.3: P/P0 1.155
-#: at 1.5, 0.598 at 2.0); 2.0 bridges them and still lies below the second shell's 1.73 x
-#: 1.5 of a fresh lattice stretched by the dried cells (doc/results/validation.md)
+#: at 1.5, 0.598 at 2.0); 2.0 bridges them, and also the outline's one-spacing notches
+#: that 1.5 follows (the same tissue at s = 0.8: A/A0 0.7652 against 0.7672 at 1.5;
+#: doc/results/validation.md)
 FINE_EDGE_FACTOR = 2.0
 
 
