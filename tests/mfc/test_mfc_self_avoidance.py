@@ -3,9 +3,9 @@
 # see the LICENSE file in the top-level directory.
 """The MFC wall's self-avoidance holds a wall particle pressed against a bond of its own
 ring: it must not slip through the gap between the bond's two particles (doc/mfc.md,
-"Wall self-avoidance"). With the default E0 = 1e-12 J the gap of a bond at its s = 0.3 rest
-length gives way at 3.4e-5 N, and dried folds pressed their layers through each other;
-``SELF_E0_FOLDS`` (1e-10 J) holds 3.4e-3 N."""
+"Wall self-avoidance"). With the former default E0 = 1e-12 J the gap of a bond at its
+s = 0.3 rest length gives way at 3.4e-5 N, and dried folds pressed their layers through
+each other; ``SELF_E0_FOLDS`` (1e-10 J, the default now) holds 3.4e-3 N."""
 
 import numpy as np
 import pytest
@@ -57,7 +57,8 @@ def pressed_through(tmp_path, p, s=0.3, load=LOAD, start=1.5e-6):
 
 @pytest.mark.lammps
 def test_wall_particle_pressed_on_its_own_bond_does_not_pass(tmp_path):
-    p = mfc_model.parameters(self_E0=mfc_model.SELF_E0_FOLDS)
+    p = mfc_model.parameters()     # the default holds the folds
+    assert p["self_E0"] == mfc_model.SELF_E0_FOLDS
     h = pressed_through(tmp_path, p)
     # held in front of the gap, at about the distance where the repulsion carries the load
     assert 0.3e-6 < h < p["self_r0"], h
@@ -65,9 +66,8 @@ def test_wall_particle_pressed_on_its_own_bond_does_not_pass(tmp_path):
 
 @pytest.mark.lammps
 def test_former_self_avoidance_let_the_particle_through(tmp_path):
-    """The check has teeth: E0 = 1e-12 J (the default, with which the committed references
-    were made) and 1e-11 J (which still let the 86-cell tissue cross) let the same particle
-    through the gap."""
+    """The check has teeth: E0 = 1e-12 J (the former default) and 1e-11 J (which still let
+    the 86-cell tissue cross) let the same particle through the gap."""
     for weak in (1e-12, 1e-11):
         h = pressed_through(tmp_path, mfc_model.parameters(self_E0=weak))
         assert h < 0, (weak, h)

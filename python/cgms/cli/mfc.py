@@ -39,8 +39,8 @@ def arguments(q):
                         "none, the material's unheated values)")
     q.add_argument("--self-E0", type=positive_float, default=mfc_model.MFC["self_E0"],
                    help="strength E0 of a wall's self-avoidance (8-4 LJ within 3 um), J "
-                        f"(default %(default)g; {mfc_model.SELF_E0_FOLDS:g} keeps the folds of "
-                        "dried walls from passing through each other: doc/mfc.md, "
+                        "(default %(default)g, which keeps the folds of dried walls from passing "
+                        "through each other; 1e-12, the value before, let them: doc/mfc.md, "
                         "\"Wall self-avoidance\")")
     q.add_argument("--ftol", type=positive_float, default=mfc_run.DEFAULTS["ftol"],
                    help="steady state: largest force on a wall particle, N (default %(default)g)")

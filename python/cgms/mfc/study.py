@@ -162,8 +162,8 @@ class RingFailure(RuntimeError):
             "no level finished")
         cure = ("--resume with --dryness holding a level between s = "
                 f"{previous:g} and {s:g} continues from the last finished level; a gentler "
-                "ramp (--stage), another --seed or a stronger self-avoidance (--self-E0 "
-                f"{SELF_E0_FOLDS:g}: dried folds pressed through themselves) needs a new "
+                "ramp (--stage), another --seed or a stronger self-avoidance (--self-E0 above "
+                f"this run's; the default {SELF_E0_FOLDS:g} J holds pressed folds apart) needs a new "
                 "--out; the fine model may not reach this dryness (doc/mfc.md)"
                 if previous is not None else
                 "check the cell centres: the built walls of adjacent cells must not overlap")
