@@ -323,10 +323,11 @@ def energy(x, lev, gradient=True):
 
 def lj_energy(x, lev):
     """LJ repulsion between beads that were not fresh neighbours (reference.py's form,
-    repulsive branch only): energy and its gradient (n, 2)."""
+    repulsive branch only): energy and its gradient (n, 2), or (n, 3) for beads in 3-D
+    (:mod:`cgms.shaped3d`, the same law)."""
     i, k = lev["pairs"][:, 0], lev["pairs"][:, 1]
     dv = x[i] - x[k]
-    r = np.hypot(dv[:, 0], dv[:, 1])
+    r = np.hypot(dv[:, 0], dv[:, 1]) if x.shape[1] == 2 else np.sqrt(np.sum(dv * dv, axis=1))
     close = r < lev["r_lj"]
     q = lev["r_lj"] / r[close]
     f0 = lev["mat"]["f0_r"]
@@ -335,7 +336,7 @@ def lj_energy(x, lev):
     dEdr = f0 * (-(q ** 8) + q ** 4) / r[close]
     gp = (dEdr / r[close])[:, None] * dv[close]
     g = np.zeros_like(x)
-    for c in range(2):
+    for c in range(x.shape[1]):
         g[:, c] = np.bincount(i[close], gp[:, c], minlength=lev["n"]) - \
             np.bincount(k[close], gp[:, c], minlength=lev["n"])
     return E, g
