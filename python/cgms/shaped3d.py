@@ -237,11 +237,17 @@ def free(lev):
                 np.broadcast_to(keep, (n, 3, 3)))
 
 
-def relax(z, lev, ftol=1e-9, maxiter=20000):
-    """Steady state from ``z`` by scipy's L-BFGS-B with the exact gradient, positions in
-    units of the bond length and energy in units of ftol times it, so that it stops when
-    every bead force and every dE/dF / bond length is below ``ftol`` (N). The held
-    numbers (:func:`free`) stay as they are. Returns (z, info)."""
+def relax(z, lev, ftol=1e-9, maxiter=20000, method="lbfgs"):
+    """Steady state from ``z``, positions in units of the bond length and energy in units
+    of ftol times it, so that it stops when every bead force and every dE/dF / bond length
+    is below ``ftol`` (N); the held numbers (:func:`free`) stay as they are. ``method``
+    "lbfgs": scipy's L-BFGS-B with the exact gradient, then (where its line search stops
+    on the rounding of the Tait energy, terms of size K V) Newton-Krylov on the gradient
+    alone; "newton": scipy's trust-region Newton method (``trust-exact``) with the
+    Hessian from central differences of the exact gradient (dense, 24 n gradients: small
+    tissues only), which leaves the saddles that wrinkled walls make (a uniform block
+    whose walls wrinkle lowers its energy by changing shape at fixed volume). Returns
+    (z, info)."""
     from scipy.optimize import minimize
     n = lev["n"]
     L = _length(lev)
@@ -259,17 +265,36 @@ def relax(z, lev, ftol=1e-9, maxiter=20000):
         E, g = energy(state(y), lev)
         return E / scale, g[mask] * unit / scale
 
-    res = minimize(fun, np.zeros(mask.sum()), jac=True, method="L-BFGS-B",
-                   options=dict(maxiter=maxiter, maxfun=2 * maxiter, gtol=1.0, ftol=0.0,
-                                maxcor=30))
+    def hess(y, h=1e-6):
+        H = np.empty((len(y), len(y)))
+        for j in range(len(y)):
+            e = np.zeros(len(y))
+            e[j] = h
+            H[j] = (fun(y + e)[1] - fun(y - e)[1]) / (2 * h)
+        return 0.5 * (H + H.T)
+
+    y0 = np.zeros(mask.sum())
+    if method == "newton":
+        res = minimize(fun, y0, jac=True, hess=hess, method="trust-exact",
+                       options=dict(maxiter=min(maxiter, 500), gtol=1.0,
+                                    initial_trust_radius=0.02, max_trust_radius=0.2))
+    elif method == "lbfgs":
+        res = minimize(fun, y0, jac=True, method="L-BFGS-B",
+                       options=dict(maxiter=maxiter, maxfun=2 * maxiter, gtol=1.0, ftol=0.0,
+                                    maxcor=30))
+    else:
+        raise ValueError(f"method must be 'lbfgs' or 'newton', not {method!r}")
     y, message = res.x, str(res.message)
     if np.abs(fun(y)[1]).max() > 1.0:
-        # the line search cannot see energy changes below the rounding of the Tait
-        # energy (terms of size K V); Newton-Krylov on the gradient alone can
-        from scipy.optimize import newton_krylov
-        from scipy.optimize.nonlin import NoConvergence
+        import scipy.optimize as so
+        NoConvergence = getattr(so, "NoConvergence", None)
+        if NoConvergence is None:     # scipy < 1.11 keeps it in a module it deprecates
+            import warnings
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", DeprecationWarning)
+                from scipy.optimize.nonlin import NoConvergence
         try:
-            y = newton_krylov(lambda v: fun(v)[1], y, f_tol=0.5, maxiter=50)
+            y = so.newton_krylov(lambda v: fun(v)[1], y, f_tol=0.5, maxiter=50)
             message += "; polished by Newton-Krylov on the gradient"
         except (NoConvergence, ValueError) as err:
             message += f"; Newton-Krylov polish failed ({type(err).__name__})"
