@@ -218,12 +218,16 @@ def test_uniform_dried_block_has_the_volume_of_its_water(s):
     fx, fF = s3.forces(z, lev)
     assert fx <= 64 * EPS * force_scale(lev) and fF <= 64 * EPS * force_scale(lev)
     V = s3.cell_measures(z, lev)["volume"]
-    expect = s * geo["V_f0"] * (1 + (P - s * MAT["P_f"]) / MAT["K"]) ** (-1 / 7)
+    # the fresh fluid: the Kelvin cell (edge e) less a slab of lamella d_p over its walls
+    e = L / math.sqrt(6)
+    V_f0 = 8 * math.sqrt(2) * e ** 3 - s3.DEFAULTS["lamella"] * MAT["pectin"] * (
+        6 + 12 * math.sqrt(3)) * e * e
+    expect = s * V_f0 * (1 + (P - s * MAT["P_f"]) / MAT["K"]) ** (-1 / 7)
     np.testing.assert_allclose(V, expect, rtol=64 * EPS)
     S = lam ** 2 * lev["cell"]["S0"].sum()
     wrinkle = -2 * lev["tau"] * S / (3 * lam ** 3 * lev["cell"]["volume"] - 2 * lev["w"] * S)
     assert P == pytest.approx(wrinkle, rel=1e-9)
-    slack = s * geo["V_f0"] * (1 - s * MAT["P_f"] / MAT["K"]) ** (-1 / 7)
+    slack = s * V_f0 * (1 - s * MAT["P_f"] / MAT["K"]) ** (-1 / 7)
     assert abs(V[0] / slack - 1) < 1e-4         # the walls move the volume by |P| / 7 K
 
 
