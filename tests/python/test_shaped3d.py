@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 
 import cgmstest  # noqa: F401 - puts python/ on the path
 from cgms import material, shaped, shaped3d as s3, shaped3d_cells as cells, tissue
-from cgms import shaped_tensor as st
+from cgms import shaped3d_hessian as s3h, shaped3d_relax, shaped_tensor as st
 from test_shaped import assert_matches_differences, central
 
 MAT = material.read("apple")
@@ -96,6 +96,23 @@ def test_gradient_is_the_derivative_of_the_energy(iso):
                                z / u, 1e-5, abs(E))
 
 
+def test_hessian_is_the_derivative_of_the_gradient():
+    """The exact Hessian (iso 0) against differences of the gradient; its rounding scale
+    is a gradient entry's largest terms, the fluid's (K + |P|) V0 and 14 faces' |dE/dS| S,
+    and it is symmetric to the rounding of its products."""
+    z, lev = dried_state(s=0.4, seed=5)
+    u = units(lev["n"])
+    Hs = s3h.hessian(z, lev).toarray() * np.outer(u, u)
+    x, F = s3.split(z, lev["n"])
+    _, S = s3.faces(F, lev)
+    _, de = shaped.wall_energy(S, lev["rest"], lev["K_A"], lev["tau"], lev["soft"])
+    scale = (MAT["K"] + MAT["P_f"]) * lev["cell"]["volume"] + 14 * np.abs(de * S).max()
+    assert_matches_differences(Hs, lambda y: s3.energy(y * u, lev)[1] * u, z / u, 1e-5, scale)
+    np.testing.assert_allclose(Hs, Hs.T, rtol=0, atol=64 * EPS * np.abs(Hs).max())
+    with pytest.raises(NotImplementedError, match="iso 0"):
+        s3h.hessian(*dried_state(iso=1.0))
+
+
 def test_rigid_motions_that_rotate_every_F_leave_the_energy():
     """x -> R x + t and F_i -> R F_i leave E unchanged and rotate the gradient; the forces
     sum to zero and the torque, with the couples on the F (sum_i g_F : W F_i for each
@@ -162,7 +179,7 @@ def test_fresh_unconstrained_block_relaxes_to_an_isotropic_state():
     n = geo["n"]
     rng = np.random.default_rng(1)
     x, F = s3.split(s3.fresh_state(geo), n)
-    z, info = s3.relax(s3.join(x + rng.normal(0, 2e-6, x.shape),
+    z, info = shaped3d_relax.relax(s3.join(x + rng.normal(0, 2e-6, x.shape),
                                F + rng.uniform(-0.02, 0.02, F.shape)), lev, ftol=1e-10)
     assert info["converged"], info
     u = units(n)
