@@ -67,6 +67,10 @@ def build(points, vectors, mat, params=None, caps=()):
     if held:
         for nrm in cell["n0"][is_cap]:
             D = D - 0.5 * np.outer(nrm, nrm)   # each normal twice (top and bottom)
+        if not (np.allclose(D, np.diag(np.round(np.diag(D))), atol=1e-12)
+                and np.all(np.isin(np.round(np.diag(D)), (0.0, 1.0)))):
+            raise ValueError("held caps must come in opposite pairs along the axes x, y or "
+                             "z (a layer's top and bottom); build the layer in that frame")
     gS = cell["S0"] * (np.trace(D) - np.einsum("fi,ij,fj->f", cell["n0"], D, cell["n0"]))
     T = mat["P_f"] * (cell["volume"] * np.trace(D) - w * gS[wall].sum()) / gS[wall].sum()
     eps = (1 + T / K_A) ** (1 / p["rest_power"]) - 1

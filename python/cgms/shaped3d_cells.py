@@ -32,8 +32,12 @@ def polyhedron(neighbours, caps=()):
     normals = [v / np.linalg.norm(v) for v in d] + [np.asarray(c[0], float) for c in caps]
     offsets = [0.5 * np.linalg.norm(v) for v in d] + [float(c[1]) for c in caps]
     normals, offsets = np.array(normals), np.array(offsets)
-    hs = HalfspaceIntersection(np.column_stack([normals, -offsets]), np.zeros(3))
-    pts = hs.intersections
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pts = HalfspaceIntersection(np.column_stack([normals, -offsets]),
+                                    np.zeros(3)).intersections
+    if not np.all(np.isfinite(pts)):
+        raise ValueError("the lattice cell is not closed: its neighbour vectors (and caps) "
+                         "leave it unbounded; give every direction a neighbour or a cap")
     scale = offsets.max()
     # one vertex per corner (qhull repeats a corner where more than three planes meet)
     uniq = []

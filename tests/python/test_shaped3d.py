@@ -312,3 +312,21 @@ def test_prism_layer_with_the_3d_rest_area_is_not_the_2d_model():
                                         caps="held"), caps)
     zs, info = st.relax(z2, l2, ftol=1e-9)
     assert max(s3.forces(embed(zs, l2["n"]), s3.at_level(geo3, 0.5))) > 1e-6
+
+
+def test_bad_input_is_refused_with_its_cause():
+    pts, vec, caps = cells.prism_layer(tissue.rectangle(0.45e-3, 0.45e-3, L), L, MAT["height"])
+    with pytest.raises(ValueError, match="not closed"):
+        s3.build(pts, vec, MAT, dict(caps="held"), caps[:1])
+    tilted = [((0.0, 0.6, 0.8), MAT["height"] / 2), ((0.0, -0.6, -0.8), MAT["height"] / 2)]
+    with pytest.raises(ValueError, match="opposite pairs"):
+        s3.build(pts, vec, MAT, dict(caps="held"), tilted)
+    with pytest.raises(ValueError, match="caps must be"):
+        s3.build(pts, vec, MAT, dict(caps="plates"), caps)
+    with pytest.raises(ValueError, match="whole number"):
+        cells.block(2, 0, 2, L)
+    with pytest.raises(ValueError, match="method"):
+        shaped3d_relax.relax(s3.fresh_state(s3.build(pts, vec, MAT, {}, caps)),
+                             s3.at_level(s3.build(pts, vec, MAT, {}, caps), 1.0),
+                             method="fire")
+
