@@ -330,3 +330,15 @@ def test_bad_input_is_refused_with_its_cause():
                              s3.at_level(s3.build(pts, vec, MAT, {}, caps), 1.0),
                              method="fire")
 
+
+
+def test_slab_fits_its_dimensions():
+    """A slab holds the block whose cube corners span at most its width, depth and
+    thickness: 1 x 1 x 0.4 mm at x_ref is 6 x 6 x 3 corners (cube edge 174 um) and the
+    5 x 5 x 2 centres between them."""
+    pts, vec = cells.slab(1e-3, 1e-3, 0.4e-3, L)
+    a = 2 * L / math.sqrt(3)
+    span = np.ptp(pts, axis=0)
+    assert len(pts) == 6 * 6 * 3 + 5 * 5 * 2
+    assert np.all(span <= np.array([1e-3, 1e-3, 0.4e-3])) and np.all(span + a > [1e-3, 1e-3,
+                                                                                 0.4e-3])
