@@ -340,5 +340,5 @@ def test_slab_fits_its_dimensions():
     a = 2 * L / math.sqrt(3)
     span = np.ptp(pts, axis=0)
     assert len(pts) == 6 * 6 * 3 + 5 * 5 * 2
-    assert np.all(span <= np.array([1e-3, 1e-3, 0.4e-3])) and np.all(span + a > [1e-3, 1e-3,
-                                                                                 0.4e-3])
+    dims = np.array([1e-3, 1e-3, 0.4e-3])
+    assert np.all(span <= dims) and np.all(span + a > dims)
