@@ -228,6 +228,13 @@ def wall_energy(chord, rest, EA, buckle, soft=0.0):
     return e, de
 
 
+def wall_stiffness(chord, rest, EA, buckle, soft=0.0):
+    """The second derivative of :func:`wall_energy` in the chord: EA / r while elastic,
+    ``soft`` EA / r once buckled."""
+    k = EA / rest
+    return np.where(chord >= rest - buckle / k, k, soft * k)
+
+
 def contour(chord, rest, geo):
     """Per cell contour length: each wall's length along its folds, max(chord, rest)."""
     return np.bincount(geo["cell"], np.maximum(chord, rest), minlength=geo["n"])
@@ -323,10 +330,11 @@ def energy(x, lev, gradient=True):
 
 def lj_energy(x, lev):
     """LJ repulsion between beads that were not fresh neighbours (reference.py's form,
-    repulsive branch only): energy and its gradient (n, 2)."""
+    repulsive branch only): energy and its gradient (n, 2), or (n, 3) for beads in 3-D
+    (:mod:`cgms.shaped3d`, the same law)."""
     i, k = lev["pairs"][:, 0], lev["pairs"][:, 1]
     dv = x[i] - x[k]
-    r = np.hypot(dv[:, 0], dv[:, 1])
+    r = np.hypot(dv[:, 0], dv[:, 1]) if x.shape[1] == 2 else np.sqrt(np.sum(dv * dv, axis=1))
     close = r < lev["r_lj"]
     q = lev["r_lj"] / r[close]
     f0 = lev["mat"]["f0_r"]
@@ -335,21 +343,22 @@ def lj_energy(x, lev):
     dEdr = f0 * (-(q ** 8) + q ** 4) / r[close]
     gp = (dEdr / r[close])[:, None] * dv[close]
     g = np.zeros_like(x)
-    for c in range(2):
+    for c in range(x.shape[1]):
         g[:, c] = np.bincount(i[close], gp[:, c], minlength=lev["n"]) - \
             np.bincount(k[close], gp[:, c], minlength=lev["n"])
     return E, g
 
 
 def lj_hessian(x, lev):
-    """The exact second derivative of :func:`lj_energy` (2n, 2n, sparse CSR)."""
-    n = lev["n"]
+    """The exact second derivative of :func:`lj_energy` (2n, 2n, sparse CSR; 3n, 3n for
+    beads in 3-D)."""
+    n, dim = lev["n"], x.shape[1]
     i, kk = lev["pairs"][:, 0], lev["pairs"][:, 1]
     dv = x[i] - x[kk]
-    r = np.hypot(dv[:, 0], dv[:, 1])
+    r = np.hypot(dv[:, 0], dv[:, 1]) if dim == 2 else np.sqrt(np.sum(dv * dv, axis=1))
     close = r < lev["r_lj"]
     if not np.any(close):
-        return sp.csr_matrix((2 * n, 2 * n))
+        return sp.csr_matrix((dim * n, dim * n))
     i, kk, dv, r = i[close], kk[close], dv[close], r[close]
     q = lev["r_lj"] / r
     f0 = lev["mat"]["f0_r"]
@@ -357,16 +366,16 @@ def lj_hessian(x, lev):
     e2 = f0 * (9 * q ** 8 - 5 * q ** 4) / r ** 2
     uu = dv / r[:, None]
     B = e2[:, None, None] * uu[:, :, None] * uu[:, None, :] + \
-        (e1 / r)[:, None, None] * (np.eye(2)[None] - uu[:, :, None] * uu[:, None, :])
+        (e1 / r)[:, None, None] * (np.eye(dim)[None] - uu[:, :, None] * uu[:, None, :])
     rr, cc, vv = [], [], []
-    for ci in range(2):
-        for ck in range(2):
+    for ci in range(dim):
+        for ck in range(dim):
             for p, q2, sgn in ((i, i, 1), (kk, kk, 1), (i, kk, -1), (kk, i, -1)):
-                rr.append(2 * p + ci)
-                cc.append(2 * q2 + ck)
+                rr.append(dim * p + ci)
+                cc.append(dim * q2 + ck)
                 vv.append(sgn * B[:, ci, ck])
     return sp.csr_matrix((np.concatenate(vv), (np.concatenate(rr), np.concatenate(cc))),
-                         shape=(2 * n, 2 * n))
+                         shape=(dim * n, dim * n))
 
 
 def wall_kinds(x, lev):
