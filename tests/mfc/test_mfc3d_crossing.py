@@ -54,14 +54,14 @@ def test_a_wall_pushed_through_itself_is_found():
 
 
 def test_tissue_crossings_tell_a_wall_through_itself_from_two_through_each_other():
-    """The built 16-cell block (n = 5, its facing walls d_p apart) is clean. Cell 3's
+    """The built 16-cell block (n = 3, its facing walls d_p apart) is clean. Cell 3's
     square-face node pushed through its own opposite face (3 um into the 9.24 um gap) is
     one cell crossing itself; cell 1 moved 12 um (> d_p) towards its neighbour across a
     hexagonal face is those two walls through each other, and neither crosses itself.
     (Moves along the block's symmetry lines are given a small sideways part: a node
     carried exactly onto another wall's edge is a touch the strict test does not count.)"""
     centres = tissue3d.block(P, 2)
-    x, cell, w = tissue3d.walls(centres, P, 5)
+    x, cell, w = tissue3d.walls(centres, P, 3)
     m, tri, a = len(w["x"]), w["tri"], w["cube"]
     clean = crossing3d.tissue_crossings(x, tri, m)
     assert clean == dict(self=[], between=[], cells=[])
