@@ -93,7 +93,8 @@ def test_wall_crossing_says_where_what_is_kept_and_what_to_try():
     assert text.startswith("s = 0.4 (on the ramp from s = 0.6, at s = 0.55): cell 4's wall "
                            "crosses itself")
     for part in ("the levels finished (s = 1, 0.8, 0.6) stay in /out",
-                 "walls.failed.s0.55.dump", "gentler ramp", "--seed", "self-avoidance"):
+                 "walls.failed.s0.55.dump", "gentler ramp (--stage below 0.05)", "--seed",
+                 "self-avoidance"):
         assert part in text
 
 
@@ -112,3 +113,6 @@ def test_study_stops_at_walls_through_each_other(tmp_path):
     with pytest.raises(SystemExit, match=r"^cgms mfc3d: s = 1: .*pass through each other"):
         study3d.main([str(tmp_path / "cli"), "--cubes", "1", "--subdivision", "2",
                       "--levels", "1"])
+    with pytest.raises(SystemExit, match=r"^cgms mfc3d: --stage must be in \(0, 0.5\], got 0$"):
+        study3d.main([str(tmp_path / "stage"), "--stage", "0"])
+    assert not (tmp_path / "stage").exists()

@@ -4,8 +4,8 @@
 """Dry a 3-D fine-scale (MFC) tissue block over moisture levels and write its reference
 (doc/mfc.md, "3-D tissue"; reference/mfc3d/README.md).
 
-    python3 -m cgms.mfc.study3d OUT [--cubes 2] [--subdivision 3] [--levels 1,0.8,...]
-                                    [--seed 1] [--material apple]
+    python3 -m cgms.mfc.study3d OUT [--cubes 2] [--subdivision 5] [--levels 1,0.8,...]
+                                    [--seed 1] [--stage 0.05] [--material apple]
 
 The path is the 2-D one: the fresh block relaxed with the lamella's LJ alone, the lamella
 bonds set at rest there, then each level reached from the previous one through stages
@@ -89,13 +89,14 @@ class WallCrossing(RuntimeError):
     (:func:`cgms.mfc.crossing3d.tissue_crossings`): what, where, what is kept and what to
     try. ``found`` is what the check returned, ``s`` the dryness it was met at."""
 
-    def __init__(self, found, s, target, previous, results, dump):
+    def __init__(self, found, s, target, previous, results, dump,
+                 step=run3d.DEFAULTS["stage"]):
         where = f"s = {target:g}" + ("" if s == target else
                                      f" (on the ramp from s = {previous:g}, at s = {s:.4g})")
         done = ", ".join(f"{r['s']:g}" for r in results)
         kept = (f"the levels finished (s = {done}) stay in {dump.parent}" if results else
                 "no level finished")
-        cure = ("a gentler ramp (a smaller stage), another --seed, or a finer wall "
+        cure = (f"a gentler ramp (--stage below {step:g}), another --seed, or a finer wall "
                 "(--subdivision); the 3-D wall has no self-avoidance (doc/mfc.md, "
                 "\"3-D tissue\"), so a wall folded through itself needs one; the fine model "
                 "may not reach this dryness" if previous is not None else
@@ -107,14 +108,14 @@ class WallCrossing(RuntimeError):
         self.found, self.s = found, s
 
 
-def check_walls(out, lmp, w, s, target, previous, results):
+def check_walls(out, lmp, w, s, target, previous, results, step=run3d.DEFAULTS["stage"]):
     """Stop (:class:`WallCrossing`) if a wall crossed itself or another's at dryness
     ``s`` (on the way to the level ``target``); the walls are dumped for a look."""
     found = crossing3d.tissue_crossings(run3d.positions(lmp), w["tri"], len(w["x"]))
     if found["self"] or found["between"]:
         dump = out / f"walls.failed.{level_name(s)}.dump"
         lmp.command(f"write_dump all custom {dump.resolve()} id mol x y z modify sort id")
-        raise WallCrossing(found, s, target, previous, results, dump)
+        raise WallCrossing(found, s, target, previous, results, dump, step)
 
 
 def dry(out, p, cubes=2, n=tissue3d.TISSUE3D["subdivision"], levels=LEVELS, say=print,
@@ -161,9 +162,9 @@ def dry(out, p, cubes=2, n=tissue3d.TISSUE3D["subdivision"], levels=LEVELS, say=
                 spent += run3d.relax(lmp, p, w, stage, ftol=opts["ftol"],
                                      chunk=opts["chunk"], max_iterations=opts["chunk"],
                                      dmax=opts["dmax"])["iterations"]
-                check_walls(out, lmp, w, stage, s, previous, results)
+                check_walls(out, lmp, w, stage, s, previous, results, step)
             r = run3d.relax(lmp, p, w, s, **opts)
-            check_walls(out, lmp, w, s, s, previous, results)
+            check_walls(out, lmp, w, s, s, previous, results, step)
             r["iterations"] += spent
             results.append(record(out, lmp, w, s, r, time.time() - t0))
             say(f"s = {s:g}: {json.dumps(results[-1])}")
@@ -203,13 +204,17 @@ def main(argv=None):
     ap.add_argument("--material", default="apple")
     ap.add_argument("--seed", type=int, default=run3d.DEFAULTS["seed"],
                     help="kick seed: level s uses seed + round(1e4 s)")
+    ap.add_argument("--stage", type=float, default=run3d.DEFAULTS["stage"],
+                    help="dryness step between the ramp's stages (default %(default)g)")
     args = ap.parse_args(argv)
     try:
         levels = [float(v) for v in args.levels.split(",")]
         if not 1 <= args.seed <= 2**31 - 1 - 10**4:
             raise ValueError(f"--seed must be in 1..{2**31 - 1 - 10**4}, got {args.seed}")
+        if not 0 < args.stage <= 0.5:
+            raise ValueError(f"--stage must be in (0, 0.5], got {args.stage:g}")
         dry(args.out, mfc_model.parameters(args.material), args.cubes, args.subdivision,
-            levels, seed=args.seed)
+            levels, seed=args.seed, stage=args.stage)
     except (ValueError, FileExistsError, WallCrossing) as err:
         sys.exit(f"cgms mfc3d: {err}")
 
