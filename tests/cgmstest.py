@@ -133,15 +133,17 @@ def physics(pair_args="", fix_args="", material_overrides=""):
     ]) + "\n"
 
 
-def run_lmp(folder, script, nprocs=1, check=True, timeout=600):
-    """Run ``script`` with lmp in ``folder`` (serially or with mpirun -np N)."""
+def run_lmp(folder, script, nprocs=1, check=True, timeout=600, env=None):
+    """Run ``script`` with lmp in ``folder`` (serially or with mpirun -np N), with the
+    environment variables ``env`` added."""
     require_lammps()
     folder = Path(folder)
     (folder / "in.test").write_text(script)
     cmd = [LMP, "-in", "in.test", "-log", "log.lammps", "-nocite"]
     if nprocs > 1:
         cmd = ["mpirun", "--oversubscribe", "-np", str(nprocs)] + cmd
-    proc = subprocess.run(cmd, cwd=folder, env=lammps_env(), capture_output=True, text=True,
+    proc = subprocess.run(cmd, cwd=folder, env={**lammps_env(), **(env or {})},
+                          capture_output=True, text=True,
                           timeout=timeout, stdin=subprocess.DEVNULL)
     if check and proc.returncode != 0:
         raise AssertionError(f"lmp failed ({proc.returncode}):\n{proc.stdout[-4000:]}\n"

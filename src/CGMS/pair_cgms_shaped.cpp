@@ -31,6 +31,8 @@ using CGMS::Shaped::Params;
 // the cutoff need not reach beyond a few fresh bonds: a larger reach only fills the ghost
 // shell (and at 1e300 overflows LAMMPS's neighbour bins)
 static constexpr double REACH_MAX = 10.0;
+// values past the last bead's in the minimiser's extra arrays (see min_xf_get)
+static constexpr int MIN_PAD = 3;
 
 static const char *const PROPERTY_HINT =
     "write the tissue with cgms.shaped_data.write_data() and define its properties before "
@@ -1055,26 +1057,42 @@ void PairCGMSShaped::read_restart(FILE *fp)
 
 void PairCGMSShaped::min_xf_pointers(int, double **xextra, double **fextra)
 {
-  if (atom->nmax > nmax_min) {
-    memory->destroy(min_x);
-    memory->destroy(min_f);
-    nmax_min = atom->nmax;
-    memory->create(min_x, 4 * nmax_min, "pair:min_x");
-    memory->create(min_f, 4 * nmax_min, "pair:min_f");
-  }
+  grow_min_arrays();
   *xextra = min_x;
   *fextra = min_f;
 }
+
+// LAMMPS reads the values again through min_xf_pointers after atoms migrated
+void PairCGMSShaped::grow_min_arrays()
+{
+  if (atom->nmax <= nmax_min) return;
+  memory->destroy(min_x);
+  memory->destroy(min_f);
+  nmax_min = atom->nmax;
+  memory->create(min_x, 4 * nmax_min + MIN_PAD, "pair:min_x");
+  memory->create(min_f, 4 * nmax_min + MIN_PAD, "pair:min_f");
+}
+
+/* ----------------------------------------------------------------------
+   LAMMPS's max norm (min_modify norm max) reads the extra per-atom values in
+   triples, up to index 4 nlocal + 2: past the last bead's 4 values lie MIN_PAD
+   more, zeroed on every call. Left unwritten, the minimiser read whatever the
+   heap held there (zero in a fresh process, garbage after many LAMMPS instances:
+   the force test then never passed)
+------------------------------------------------------------------------- */
 
 void PairCGMSShaped::min_xf_get(int)
 {
   double **F = atom->darray[iF];
   double **fF = atom->darray[iforce];
-  for (int i = 0; i < atom->nlocal; i++)
+  const int nlocal = atom->nlocal;
+  grow_min_arrays();    // called before min_xf_pointers when atoms migrated in
+  for (int i = 0; i < nlocal; i++)
     for (int k = 0; k < 4; k++) {
       min_x[4 * i + k] = dof_scale * F[i][k];
       min_f[4 * i + k] = fF[i][k] / dof_scale;
     }
+  for (int k = 4 * nlocal; k < 4 * nlocal + MIN_PAD; k++) min_x[k] = min_f[k] = 0.0;
 }
 
 void PairCGMSShaped::min_x_set(int)

@@ -71,6 +71,7 @@ class PairCGMSShaped : public Pair {
   int nmax_target;
   double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
   int nmax_min;
+  void grow_min_arrays();
   // fixed per-bead data, in the local order of the current neighbour list (cache_fresh_data,
   // at every new list): per wall its fresh vector's d0 d0^T, the contour's smoothing and the
   // wall law's constants; per bead its rest-length sum and fresh fluid area; per fresh

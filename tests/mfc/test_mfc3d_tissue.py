@@ -270,18 +270,21 @@ def test_restart_continues_the_run(tmp_path_factory):
 
 @pytest.mark.lammps
 def test_study_dries_a_glued_pair(tmp_path):
-    """``cgms.mfc.study3d`` on the two-cell block, levels 1 and 0.8: every level at rest,
-    the cells' volume their fluid's; the lamella bonds set between
+    """``cgms.mfc.study3d`` on the two-cell block (n = 5, the study's mesh: at n = 2 the
+    walls pass through each other and the study stops, test_mfc3d_crossing.py), levels 1
+    and 0.8: every level at rest, no particle inside the other cell's wall, the cells'
+    volume their fluid's, a wall dump per level; the lamella bonds set between
     different cells, each at its fresh length (within the 10 nm bin); a second run into the
     same folder refused with one line."""
     out = tmp_path / "pair"
-    res = study3d.dry(out, P, cubes=1, n=2, levels=(1.0, 0.8), say=lambda *a: None)
+    res = study3d.dry(out, P, cubes=1, n=5, levels=(1.0, 0.8), say=lambda *a: None)
     assert [r["s"] for r in res] == [1.0, 0.8]
     for r in res:
-        # intrusions are counted; at n = 2 (27 um edges) the LJ does not close the walls
-        # (doc/mfc.md, "Mesh"), so the count is not asserted here
-        assert r["converged"] and r["fmax"] < 1e-10 and r["intrusions"] >= 0
+        assert r["converged"] and r["fmax"] < 1e-10 and r["intrusions"] == 0
         assert abs(r["cell_volume_over_fluid"] - 1) < 0.02
+        dump = (out / f"walls.s{r['s']:g}.dump").read_text().splitlines()
+        assert dump[3] == "1804" and dump[8].split() == ["ITEM:", "ATOMS", "id", "mol", "x",
+                                                         "y", "z"]
     assert res[1]["volume"] < res[0]["volume"]
     summary = (out / "summary.csv").read_text().splitlines()
     assert summary[0].split(",") == list(study3d.SUMMARY) and len(summary) == 3
@@ -289,7 +292,7 @@ def test_study_dries_a_glued_pair(tmp_path):
     assert cells.shape == (2, 6)
     fresh = np.loadtxt(out / "cells.s1.csv", delimiter=",", skiprows=1)
     # the fresh state relaxed from the built one, whose fluid rest volume it keeps
-    x, cell, w = tissue3d.walls(tissue3d.block(P, 1), P, 2)
+    x, cell, w = tissue3d.walls(tissue3d.block(P, 1), P, 5)
     assert np.allclose(fresh[:, 4], w["fluid_volume"], rtol=0.02)
     text = (out / "lamella.data").read_text()
     atoms = text.split("\nAtoms # molecular\n\n")[1].split("\n\n")[0].splitlines()

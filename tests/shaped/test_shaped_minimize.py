@@ -29,12 +29,14 @@ states themselves, lambda from its exact Hessian; the energies differ by at most
 (|g_lammps|^2 + |g_python|^2) / lambda plus their rounding."""
 
 import math
+import re
 
 import numpy as np
 import pytest
 
 import shapedlmp as sl
-from cgms import shaped_tensor as st, tissue
+from cgms import shaped_data, shaped_tensor as st, tissue
+from cgmstest import run_lmp
 
 S = 0.6
 FTOL = 1e-11
@@ -91,3 +93,28 @@ def test_minimize_reaches_the_oracles_steady_state(tmp_path):
     # the cells flattened (the steady state is not the isotropic saddle)
     F = st.split(z_py, n)[1]
     assert np.abs(F[:, 0, 0] - F[:, 1, 1]).max() > 0.05
+
+
+@pytest.mark.lammps
+def test_minimize_reads_no_unset_memory(tmp_path):
+    """LAMMPS's max norm (``min_modify norm max``) reads the extra per-atom values of a pair
+    style in triples, so up to two past the last bead's four F values. Those were never set:
+    zero in a fresh process, whatever the heap held in a long-lived one (a test session
+    after many LAMMPS instances), and then the force test never passed (the doc example's
+    minimize stopped on "linesearch alpha is zero"). With glibc filling fresh heap memory
+    with garbage (MALLOC_PERTURB_), the doc example (doc/pair_cgms_shaped.rst) must stop
+    on its force tolerance after the same iterations at the same energy as without."""
+    geo = st.build(tissue.rectangle(0.75e-3, 0.75e-3, sl.L), sl.MAT)
+    shaped_data.write_data(tmp_path / "tissue.data", geo, st.fresh_state(geo))
+    script = (sl.header(geo) + f"pair_style cgms/shaped dryness {S}\n"
+              f"pair_coeff * * {sl.APPLE}\n" + MINIMIZE.replace(f"{FTOL} 100000 1000000",
+                                                                "1e-10 20000 200000"))
+    stats = []
+    for env in ({}, {"MALLOC_PERTURB_": "165"}, {"MALLOC_PERTURB_": "90"}):
+        run_lmp(tmp_path, script, env=env)
+        log = (tmp_path / "log.lammps").read_text()
+        stats.append((re.search(r"Stopping criterion = (.*)", log).group(1),
+                      re.search(r"Iterations, force evaluations = (.*)", log).group(1),
+                      re.search(r"Energy initial, next-to-last, final = \n(.*)", log).group(1)))
+    assert stats[0][0] == "force tolerance"
+    assert stats[1] == stats[0] and stats[2] == stats[0]
