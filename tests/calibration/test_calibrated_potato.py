@@ -93,11 +93,12 @@ def test_the_86_bead_potato_tissue_dries_to_potatos_steady_state(tmp_path, path)
 
 
 def header_levels_and_rmsd():
-    """{s: RMSD (m)} as potato-mfc.cgms's header quotes them ('<r> m (<r/x_ref> x_ref) at
-    s = <s>')."""
+    """{s: RMSD (m)} as potato-mfc.cgms's own header quotes them ('<r> m (<r/x_ref> x_ref)
+    at s = <s>'), not the start material's header that a fit copies below it ('(start file
+    header)')."""
     import re
     head = " ".join(line[1:] for line in POTATO_MFC.read_text().splitlines()
-                    if line.startswith("#"))
+                    if line.startswith("#")).split("(start file header)")[0]
     quoted = re.findall(r"([0-9.eE+-]+)\s+m\s+\([0-9.eE+-]+\s+x_ref\)\s+at\s+s\s+=\s+([0-9.]+)",
                         head)
     return {float(s): float(r) for r, s in quoted}
