@@ -27,6 +27,22 @@
 using namespace LAMMPS_NS;
 using CGMS::Shaped::Params;
 
+// two doubles per instruction where a bead's x and y (or a 2x2 matrix's two rows) follow
+// the same formula (GCC and Clang vector extensions; SSE2 on x86-64, two scalar
+// instructions elsewhere): each lane does the scalar code's operations in the same order,
+// so the results are bit-identical to it
+typedef double v2d __attribute__((vector_size(16)));
+static inline v2d load2(const double *p)
+{
+  v2d v;
+  memcpy(&v, p, sizeof(v));
+  return v;
+}
+static inline void store2(double *p, v2d v)
+{
+  memcpy(p, &v, sizeof(v));
+}
+
 // the per-atom properties the data file gives every bead (python/cgms/shaped_data.py)
 // the cutoff need not reach beyond a few fresh bonds: a larger reach only fills the ghost
 // shell (and at 1e300 overflows LAMMPS's neighbour bins)
@@ -667,7 +683,7 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
 
 double PairCGMSShaped::bond_terms()
 {
-  double **x = atom->x;
+  const double *x = atom->x[0];    // 3 per bead, contiguous
   const int nlocal = atom->nlocal;
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
   const Bond *bond_list = bonds.data();
@@ -676,47 +692,40 @@ double PairCGMSShaped::bond_terms()
   std::fill(bond_sums.begin(), bond_sums.end(), 0.0);
   double energy = 0.0;
   for (int i = 0; i < nlocal; i++) {
-    const double G0 = target[4 * i], G1 = target[4 * i + 1], G2 = target[4 * i + 2],
-                 G3 = target[4 * i + 3];
-    const double xi = x[i][0], yi = x[i][1];
-    // bead i's sums in registers: |m|^2 (paired bonds twice), m, f/2 m (x) d0
-    double msq = 0.0, mx = 0.0, my = 0.0, md0 = 0.0, md1 = 0.0, md2 = 0.0, md3 = 0.0;
+    // G(F_i) by columns, (G0, G2) and (G1, G3)
+    const v2d Gi0 = load2(target + 4 * i), Gi1 = load2(target + 4 * i + 2);
+    const v2d xi = load2(x + 3 * i);
+    // bead i's sums in registers: |m|^2 (paired bonds twice), m, f/2 m d0x, f/2 m d0y
+    double msq = 0.0;
+    v2d m_sum = {0.0, 0.0}, md0x = {0.0, 0.0}, md0y = {0.0, 0.0};
     for (int b = first[i]; b < first[i + 1]; b++) {
       const Bond &bond = bond_list[b];
       const int j = bond.j;
       const double hdx = bond.hdx, hdy = bond.hdy;
       const double *Gj = target + 4 * j;
-      const double m0 = x[j][0] - xi - ((G0 + Gj[0]) * hdx + (G1 + Gj[1]) * hdy);
-      const double m1 = x[j][1] - yi - ((G2 + Gj[2]) * hdx + (G3 + Gj[3]) * hdy);
-      const double sq = m0 * m0 + m1 * m1;
-      const double a0 = m0 * hdx, a1 = m0 * hdy, a2 = m1 * hdx, a3 = m1 * hdy;
+      const v2d m = (load2(x + 3 * j) - xi) -
+          ((Gi0 + load2(Gj)) * hdx + (Gi1 + load2(Gj + 2)) * hdy);
+      const v2d m2 = m * m;
+      const double sq = m2[0] + m2[1];
+      const v2d ax = m * hdx, ay = m * hdy;
       msq += sq;
-      mx += m0;
-      my += m1;
-      md0 += a0;
-      md1 += a1;
-      md2 += a2;
-      md3 += a3;
+      m_sum += m;
+      md0x += ax;
+      md0y += ay;
       if (bond.paired) {
         double *sj = sums + 6 * j;
-        sj[0] -= m0;
-        sj[1] -= m1;
-        sj[2] += a0;
-        sj[3] += a1;
-        sj[4] += a2;
-        sj[5] += a3;
+        store2(sj, load2(sj) - m);
+        store2(sj + 2, load2(sj + 2) + ax);
+        store2(sj + 4, load2(sj + 4) + ay);
         msq += sq;
         if (eflag_atom) eatom[j] += 0.25 * k_g * sq;
       }
-      if (vflag_either) bond_virial(i, j, bond.paired, k_g * m0, k_g * m1);
+      if (vflag_either) bond_virial(i, j, bond.paired, k_g * m[0], k_g * m[1]);
     }
     double *si = sums + 6 * i;
-    si[0] += mx;
-    si[1] += my;
-    si[2] += md0;
-    si[3] += md1;
-    si[4] += md2;
-    si[5] += md3;
+    store2(si, load2(si) + m_sum);
+    store2(si + 2, load2(si + 2) + md0x);
+    store2(si + 4, load2(si + 4) + md0y);
     const double e = 0.25 * k_g * msq;
     if (eflag_atom) eatom[i] += e;
     energy += e;
@@ -767,8 +776,10 @@ int PairCGMSShaped::bond_forces()
     double *fi = f[i], *fFi = fF[i];
     fi[0] += k_g * si[0];
     fi[1] += k_g * si[1];
+    // f/2 m (x) d0 row-major from its columns (m d0x, m d0y)
+    const double v[4] = {si[2], si[4], si[3], si[5]};
     double dm[4];
-    CGMS::Shaped::bond_target_pullback(F[i], par.iso, si + 2, dm);
+    CGMS::Shaped::bond_target_pullback(F[i], par.iso, v, dm);
     for (int k = 0; k < 4; k++) fFi[k] = -(fFi[k] - k_g * dm[k]);
     // & (not &&): six comparisons without a branch each
     const bool finite = (std::fabs(fi[0]) < limit) & (std::fabs(fi[1]) < limit) &
@@ -877,8 +888,16 @@ void PairCGMSShaped::compute(int eflag, int vflag)
   }
   double **F = atom->darray[iF];
   int bad = 0;
-  for (int i = 0; i < nall; i++)
-    if (!CGMS::Shaped::bond_target(F[i], par.iso, target + 4 * i)) bad = 1;
+  for (int i = 0; i < nall; i++) {
+    double G[4];
+    if (!CGMS::Shaped::bond_target(F[i], par.iso, G)) bad = 1;
+    // by columns, (G11, G21) and (G12, G22), as bond_terms reads them
+    double *t = target + 4 * i;
+    t[0] = G[0];
+    t[1] = G[2];
+    t[2] = G[1];
+    t[3] = G[3];
+  }
   const int targets_valid = !bad;
 
   // fF holds the cells' dE/dF until bond_forces makes it -dE/dF

@@ -67,7 +67,7 @@ class PairCGMSShaped : public Pair {
   int nb_max, wall_max;     // columns of the neighbour and wall arrays
   bool lists_asymmetric;    // init found a bond listed by one bead only
 
-  double *target;    // G(F) of every local and ghost bead (4 per bead)
+  double *target;    // G(F) of every local and ghost bead, by columns (G11 G21 G12 G22)
   int nmax_target;
   double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
   int nmax_min;
@@ -90,8 +90,8 @@ class PairCGMSShaped : public Pair {
   std::vector<double> rest_sum, fluid_area0;
   std::vector<Bond> bonds;
   std::vector<int> bond_first;
-  // per local bead, summed over its bonds: m and f/2 m (x) d0 (row-major), for its force and
-  // its bonds' dE/dF
+  // per local bead, summed over its bonds: m and f/2 m (x) d0 by columns (f/2 m d0x, then
+  // f/2 m d0y), for its force and its bonds' dE/dF
   std::vector<double> bond_sums;
   std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
   std::vector<double> wall_scratch;       // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
