@@ -58,49 +58,69 @@ namespace CGMS {
     // mildly compressed; shorter than r - buckle r / EA it buckles and pushes with buckle
     // plus soft EA/r times the further shortening (shaped.wall_energy); de = dE/dl. The
     // law's constants of one wall (WallLaw, from wall_law) are fixed: pair cgms/shaped
-    // keeps them per neighbour list
-    struct WallLaw {
-      double r, k, half_k;    // rest length, stiffness EA / r, k / 2
-      double lb;              // buckling length r - buckle / k
-      double e_b;             // the energy at lb, buckle^2 / (2 k)
-      double soft_k, half_soft_k;
+    // keeps them per neighbour list. T is double or a vector of doubles (GCC/Clang vector
+    // extensions: the comparisons give masks, ?: selects per lane): where the lanes
+    // differ, both sides are computed, each with the scalar code's operations
+    template <typename T> struct WallLawOf {
+      T r, k, half_k;    // rest length, stiffness EA / r, k / 2
+      T lb;              // buckling length r - buckle / k
+      T e_b;             // the energy at lb, buckle^2 / (2 k)
+      T soft_k, half_soft_k;
     };
+    typedef WallLawOf<double> WallLaw;
     inline WallLaw wall_law(double r, double EA, double buckle, double soft)
     {
       const double k = EA / r;
       return {r, k, 0.5 * k, r - buckle / k, 0.5 * buckle * buckle / k, soft * k, 0.5 * soft * k};
     }
-    inline double wall_energy(double l, const WallLaw &w, double buckle, double &de)
+    // true when c holds in every lane: a vector's walls all on one side of a law skip the
+    // other side's arithmetic and the selects (for a double, the scalar law's branch)
+    inline bool all_lanes(bool c)
     {
-      if (l >= w.lb) {
-        de = w.k * (l - w.r);
-        return w.half_k * (l - w.r) * (l - w.r);
-      }
-      const double shortening = w.lb - l;
-      de = -buckle - w.soft_k * shortening;
-      return w.e_b + buckle * shortening + w.half_soft_k * shortening * shortening;
+      return c;
+    }
+    template <typename M> inline bool all_lanes(M c)
+    {
+      return (c[0] & c[1]) != 0;
     }
 
-    // a wall's length along its folds (the strip's length): the chord, or with contour
-    // max(chord, rest) joined C1 over chord - rest in +-delta (shaped_tensor.contour_length);
-    // m1 = dm/dl
-    inline double contour_length(double l, double r, double delta, int contour, double &m1)
+    template <typename T>
+    inline T wall_energy(T l, const WallLawOf<T> &w, double buckle, T &de)
     {
-      if (!contour) {
-        m1 = 1.0;
-        return l;
+      const auto stretched = l >= w.lb;
+      const T stretch = l - w.r, shortening = w.lb - l;
+      if (all_lanes(stretched)) {
+        de = w.k * stretch;
+        return w.half_k * stretch * stretch;
       }
-      const double t = l - r;
-      if (t >= delta) {
-        m1 = 1.0;
-        return l;
+      const T de_b = -buckle - w.soft_k * shortening;
+      const T e_b = w.e_b + buckle * shortening + w.half_soft_k * shortening * shortening;
+      if (all_lanes(!stretched)) {
+        de = de_b;
+        return e_b;
       }
-      if (t <= -delta) {
-        m1 = 0.0;
+      de = stretched ? w.k * stretch : de_b;
+      return stretched ? w.half_k * stretch * stretch : e_b;
+    }
+
+    // a wall's length along its folds (the strip's length): max(chord, rest) joined C1 over
+    // chord - rest in +-delta (shaped_tensor.contour_length; with contour 0 the strip is the
+    // chord itself, m = l); m1 = dm/dl. T double or a vector, as in wall_energy
+    template <typename T> inline T contour_length(T l, T r, T delta, T &m1)
+    {
+      const T t = l - r, zero = T{};
+      const auto above = t >= delta, below = t <= -delta;
+      if (all_lanes(below)) {
+        m1 = zero;
         return r;
       }
-      m1 = (t + delta) / (2.0 * delta);
-      return r + (t + delta) * (t + delta) / (4.0 * delta);
+      if (all_lanes(above)) {
+        m1 = zero + 1.0;
+        return l;
+      }
+      const T from_low = t + delta;
+      m1 = above ? zero + 1.0 : (below ? zero : from_low / (2.0 * delta));
+      return above ? l : (below ? r : r + from_low * from_low / (4.0 * delta));
     }
 
     // the open fraction psi of a cell's intercellular space from its chord sum S, the

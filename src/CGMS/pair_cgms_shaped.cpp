@@ -23,6 +23,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 using namespace LAMMPS_NS;
 using CGMS::Shaped::Params;
@@ -31,7 +34,7 @@ using CGMS::Shaped::Params;
 // the same formula (GCC and Clang vector extensions; SSE2 on x86-64, two scalar
 // instructions elsewhere): each lane does the scalar code's operations in the same order,
 // so the results are bit-identical to it
-typedef double v2d __attribute__((vector_size(16)));
+typedef PairCGMSShaped::v2d v2d;
 static inline v2d load2(const double *p)
 {
   v2d v;
@@ -41,6 +44,15 @@ static inline v2d load2(const double *p)
 static inline void store2(double *p, v2d v)
 {
   memcpy(p, &v, sizeof(v));
+}
+// sqrt of both lanes, correctly rounded as std::sqrt
+static inline v2d sqrt2(v2d q)
+{
+#if defined(__SSE2__)
+  return (v2d) _mm_sqrt_pd((__m128d) q);
+#else
+  return v2d{std::sqrt(q[0]), std::sqrt(q[1])};
+#endif
 }
 
 // the per-atom properties the data file gives every bead (python/cgms/shaped_data.py)
@@ -547,20 +559,35 @@ void PairCGMSShaped::cache_fresh_data()
   const double *area0 = atom->dvector[iarea];
   double **wallx = atom->darray[iwallx], **wally = atom->darray[iwally];
 
-  walls.resize((size_t) nlocal * wall_max);
-  wall_scratch.resize(3 * (size_t) wall_max);
+  pair_max = (wall_max + 1) / 2;
+  walls.resize((size_t) nlocal * pair_max);
+  wall_scratch.resize(3 * (size_t) pair_max);
   rest_sum.resize(nlocal);
   fluid_area0.resize(nlocal);
   for (int i = 0; i < nlocal; i++) {
-    Wall *wall = &walls[(size_t) i * wall_max];
+    WallPair *pairs = &walls[(size_t) i * pair_max];
     double L0 = 0.0, R = 0.0;
     for (int e = 0; e < nwall[i]; e++) {
       const double dx = wallx[i][e], dy = wally[i][e];
       const double chord0 = std::sqrt(dx * dx + dy * dy);
       L0 += chord0;
       const double rest = chord0 / (1.0 + eps) * contraction;
-      wall[e] = {dx * dx, dx * dy, dy * dy, par.smooth * eps * rest,
-                 CGMS::Shaped::wall_law(rest, par.wall_EA, par.buckle, par.soft)};
+      const CGMS::Shaped::WallLaw law = CGMS::Shaped::wall_law(rest, par.wall_EA, par.buckle, par.soft);
+      // lane e % 2 of pair e / 2; the last wall of an odd cell fills both lanes
+      for (int lane = e % 2; lane < (e + 1 == nwall[i] ? 2 : e % 2 + 1); lane++) {
+        WallPair &p = pairs[e / 2];
+        p.dxx[lane] = dx * dx;
+        p.dxy[lane] = dx * dy;
+        p.dyy[lane] = dy * dy;
+        p.delta[lane] = par.smooth * eps * rest;
+        p.law.r[lane] = law.r;
+        p.law.k[lane] = law.k;
+        p.law.half_k[lane] = law.half_k;
+        p.law.lb[lane] = law.lb;
+        p.law.e_b[lane] = law.e_b;
+        p.law.soft_k[lane] = law.soft_k;
+        p.law.half_soft_k[lane] = law.half_soft_k;
+      }
       R += rest;
     }
     rest_sum[i] = R;
@@ -617,25 +644,38 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   // F in registers: the scratch stores below could alias it
   const double F[4] = {atom->darray[iF][i][0], atom->darray[iF][i][1], atom->darray[iF][i][2],
                        atom->darray[iF][i][3]};
-  const Wall *walls_i = &walls[(size_t) i * wall_max];
+  const WallPair *pairs = &walls[(size_t) i * pair_max];
   const int nw = atom->ivector[inwall][i];
+  const int np = (nw + 1) / 2;
   const double area0 = atom->dvector[iarea][i];
-  double *inv_len = wall_scratch.data(), *m1 = inv_len + wall_max, *de = m1 + wall_max;
+  v2d *inv_len = wall_scratch.data(), *m1 = inv_len + pair_max, *de = m1 + pair_max;
   const double w = par.lamella * mat.pectin;
   const double buckle = par.buckle;
   const int contour = par.contour;
 
-  // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice)
+  // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice);
+  // two walls per vector, then the sums over the walls in the walls' order
   const double C11 = F[0] * F[0] + F[2] * F[2], C22 = F[1] * F[1] + F[3] * F[3];
   const double C12x2 = 2.0 * (F[0] * F[1] + F[2] * F[3]);
   double S = 0.0, sum_m = 0.0, wall = 0.0;
-  for (int e = 0; e < nw; e++) {
-    const Wall &we = walls_i[e];
-    const double len = std::sqrt(C11 * we.dxx + C12x2 * we.dxy + C22 * we.dyy);
-    inv_len[e] = 1.0 / len;
-    S += len;
-    sum_m += CGMS::Shaped::contour_length(len, we.law.r, we.delta, contour, m1[e]);
-    wall += CGMS::Shaped::wall_energy(len, we.law, buckle, de[e]);
+  for (int p = 0; p < np; p++) {
+    const WallPair &wp = pairs[p];
+    const v2d len = sqrt2(C11 * wp.dxx + C12x2 * wp.dxy + C22 * wp.dyy);
+    inv_len[p] = 1.0 / len;
+    v2d m;
+    if (contour)
+      m = CGMS::Shaped::contour_length(len, wp.law.r, wp.delta, m1[p]);
+    else
+      m = len, m1[p] = v2d{1.0, 1.0};
+    const v2d e = CGMS::Shaped::wall_energy(len, wp.law, buckle, de[p]);
+    S += len[0];
+    sum_m += m[0];
+    wall += e[0];
+    if (2 * p + 1 < nw) {
+      S += len[1];
+      sum_m += m[1];
+      wall += e[1];
+    }
   }
   const double A_f = fluid_area0[i];
   const double P_T = dryness * mat.P_f;
@@ -656,11 +696,17 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
   // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
   const double c_S = -f1 * par.void_frac * D * p1, c_m = -f1 * w;
   double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
-  for (int e = 0; e < nw; e++) {
-    const double c = (c_S + c_m * m1[e] + de[e]) * inv_len[e];
-    Mxx += c * walls_i[e].dxx;
-    Mxy += c * walls_i[e].dxy;
-    Myy += c * walls_i[e].dyy;
+  for (int p = 0; p < np; p++) {
+    const v2d c = (c_S + c_m * m1[p] + de[p]) * inv_len[p];
+    const v2d xx = c * pairs[p].dxx, xy = c * pairs[p].dxy, yy = c * pairs[p].dyy;
+    Mxx += xx[0];
+    Mxy += xy[0];
+    Myy += yy[0];
+    if (2 * p + 1 < nw) {
+      Mxx += xx[1];
+      Mxy += xy[1];
+      Myy += yy[1];
+    }
   }
   // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
   const double fD = f1 * area0 * (1.0 - par.void_frac * psi);
@@ -1117,7 +1163,7 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 double PairCGMSShaped::memory_usage()
 {
   const double caches =
-      (double) (sizeof(Wall) / sizeof(double) * walls.capacity() + wall_scratch.capacity() +
+      (double) (sizeof(WallPair) / sizeof(double) * walls.capacity() + 2 * wall_scratch.capacity() +
                 rest_sum.capacity() + fluid_area0.capacity() + bond_sums.capacity()) *
           sizeof(double) +
       (double) bonds.capacity() * sizeof(Bond) +

@@ -31,6 +31,9 @@ namespace LAMMPS_NS {
 // degree of freedom of the line-search minimisers (min_xf_* hooks, as pair eff/cut).
 class PairCGMSShaped : public Pair {
  public:
+  // two doubles per instruction (GCC and Clang vector extensions; SSE2 on x86-64)
+  typedef double v2d __attribute__((vector_size(16)));
+
   PairCGMSShaped(class LAMMPS *);
   ~PairCGMSShaped() override;
 
@@ -77,16 +80,19 @@ class PairCGMSShaped : public Pair {
   // bond that this bead evaluates (bonds[bond_first[i] .. bond_first[i + 1]]) the closest
   // image j of the neighbour, f/2 d0, and whether j is local and evaluates the bond with
   // bead i as its own closest image (paired: evaluated once, by the lower index, for both)
-  struct Wall {
-    double dxx, dxy, dyy;    // d0 d0^T: l^2 = d0^T (F^T F) d0
-    double delta;            // the contour's smoothing half-width
-    CGMS::Shaped::WallLaw law;
+  // a cell's walls 2p and 2p + 1 are one WallPair, two walls per vector; an odd cell's last
+  // lane repeats its last wall
+  struct WallPair {
+    v2d dxx, dxy, dyy;    // d0 d0^T: l^2 = d0^T (F^T F) d0
+    v2d delta;            // the contour's smoothing half-width
+    CGMS::Shaped::WallLawOf<v2d> law;
   };
   struct Bond {
     int j, paired;
     double hdx, hdy;
   };
-  std::vector<Wall> walls;
+  std::vector<WallPair> walls;    // pair_max per bead
+  int pair_max;                    // (wall_max + 1) / 2
   std::vector<double> rest_sum, fluid_area0;
   std::vector<Bond> bonds;
   std::vector<int> bond_first;
@@ -94,7 +100,7 @@ class PairCGMSShaped : public Pair {
   // f/2 m d0y), for its force and its bonds' dE/dF
   std::vector<double> bond_sums;
   std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
-  std::vector<double> wall_scratch;       // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
+  std::vector<v2d> wall_scratch;          // per wall pair of one cell: 1 / l_e, dm/dl_e, dE/dl_e
   int cache_current;                      // 0 after init_style: rebuild before the next evaluation
   std::string material_file;              // pair_coeff's arguments, for the restart record
 
