@@ -729,6 +729,14 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
 
 double PairCGMSShaped::bond_terms()
 {
+  if (eflag_atom) return vflag_either ? bond_terms_of<1, 1>() : bond_terms_of<1, 0>();
+  return vflag_either ? bond_terms_of<0, 1>() : bond_terms_of<0, 0>();
+}
+
+// the per-atom energy (EATOM) and the virial (VIRIAL) as template arguments: no test of
+// either flag per bond
+template <int EATOM, int VIRIAL> double PairCGMSShaped::bond_terms_of()
+{
   const double *x = atom->x[0];    // 3 per bead, contiguous
   const int nlocal = atom->nlocal;
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
@@ -764,16 +772,16 @@ double PairCGMSShaped::bond_terms()
         store2(sj + 2, load2(sj + 2) + ax);
         store2(sj + 4, load2(sj + 4) + ay);
         msq += sq;
-        if (eflag_atom) eatom[j] += 0.25 * k_g * sq;
+        if (EATOM) eatom[j] += 0.25 * k_g * sq;
       }
-      if (vflag_either) bond_virial(i, j, bond.paired, k_g * m[0], k_g * m[1]);
+      if (VIRIAL) bond_virial(i, j, bond.paired, k_g * m[0], k_g * m[1]);
     }
     double *si = sums + 6 * i;
     store2(si, load2(si) + m_sum);
     store2(si + 2, load2(si + 2) + md0x);
     store2(si + 4, load2(si + 4) + md0y);
     const double e = 0.25 * k_g * msq;
-    if (eflag_atom) eatom[i] += e;
+    if (EATOM) eatom[i] += e;
     energy += e;
   }
   return energy;

@@ -118,6 +118,7 @@ class PairCGMSShaped : public Pair {
   double cell_term(int i, double *dEdF, int &bad);
   void cache_bonds();
   double bond_terms();
+  template <int EATOM, int VIRIAL> double bond_terms_of();
   void bond_virial(int i, int j, int paired, double fx, double fy);
   int bond_forces();
   void lj_terms();
