@@ -84,8 +84,7 @@ namespace CGMS {
       return (c[0] & c[1]) != 0;
     }
 
-    template <typename T>
-    inline T wall_energy(T l, const WallLawOf<T> &w, double buckle, T &de)
+    template <typename T> inline T wall_energy(T l, const WallLawOf<T> &w, double buckle, T &de)
     {
       const auto stretched = l >= w.lb;
       const T stretch = l - w.r, shortening = w.lb - l;

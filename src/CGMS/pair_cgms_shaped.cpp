@@ -70,7 +70,7 @@ static const char *const PROPERTY_HINT =
 PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
     Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
     iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
-    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), lists_asymmetric(false), target(nullptr),
+    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), pair_max(0), lists_asymmetric(false), target(nullptr),
     nmax_target(0), min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
 {
   single_enable = 0;
@@ -572,7 +572,8 @@ void PairCGMSShaped::cache_fresh_data()
       const double chord0 = std::sqrt(dx * dx + dy * dy);
       L0 += chord0;
       const double rest = chord0 / (1.0 + eps) * contraction;
-      const CGMS::Shaped::WallLaw law = CGMS::Shaped::wall_law(rest, par.wall_EA, par.buckle, par.soft);
+      const CGMS::Shaped::WallLaw law =
+          CGMS::Shaped::wall_law(rest, par.wall_EA, par.buckle, par.soft);
       // lane e % 2 of pair e / 2; the last wall of an odd cell fills both lanes
       for (int lane = e % 2; lane < (e + 1 == nwall[i] ? 2 : e % 2 + 1); lane++) {
         WallPair &p = pairs[e / 2];
@@ -757,8 +758,8 @@ template <int EATOM, int VIRIAL> double PairCGMSShaped::bond_terms_of()
       const int j = bond.j;
       const double hdx = bond.hdx, hdy = bond.hdy;
       const double *Gj = target + 4 * j;
-      const v2d m = (load2(x + 3 * j) - xi) -
-          ((Gi0 + load2(Gj)) * hdx + (Gi1 + load2(Gj + 2)) * hdy);
+      const v2d m =
+          (load2(x + 3 * j) - xi) - ((Gi0 + load2(Gj)) * hdx + (Gi1 + load2(Gj + 2)) * hdy);
       const v2d m2 = m * m;
       const double sq = m2[0] + m2[1];
       const v2d ax = m * hdx, ay = m * hdy;

@@ -68,6 +68,7 @@ class PairCGMSShaped : public Pair {
   // indices of the per-atom custom properties (Atom::find_custom)
   int iF, inb, ibondx, ibondy, iwallx, iwally, iid, inwall, iarea, iboundary, iforce;
   int nb_max, wall_max;     // columns of the neighbour and wall arrays
+  int pair_max;             // wall pairs per bead in walls, (wall_max + 1) / 2
   bool lists_asymmetric;    // init found a bond listed by one bead only
 
   double *target;    // G(F) of every local and ghost bead, by columns (G11 G21 G12 G22)
@@ -91,8 +92,7 @@ class PairCGMSShaped : public Pair {
     int j, paired;
     double hdx, hdy;
   };
-  std::vector<WallPair> walls;    // pair_max per bead
-  int pair_max;                    // (wall_max + 1) / 2
+  std::vector<WallPair> walls;
   std::vector<double> rest_sum, fluid_area0;
   std::vector<Bond> bonds;
   std::vector<int> bond_first;
