@@ -631,7 +631,8 @@ void PairCGMSShaped::cache_bonds()
 }
 
 /* ----------------------------------------------------------------------
-   cell i's fluid and wall energy and its derivative dE/dF (shaped_tensor.energy):
+   the cells' fluid and wall energy (summed over local beads from .. to - 1, and per atom)
+   and each cell's derivative dE/dF, written to the force property (shaped_tensor.energy):
    walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e (cached);
    fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1 when
    A <= 0 (infinite energy, no gradient). dl_e/dF = F d0_e d0_e^T / l_e, so
@@ -640,81 +641,93 @@ void PairCGMSShaped::cache_bonds()
    walls finds l_e, the second, once P is known, sums the symmetric 2x2 matrices.
 ------------------------------------------------------------------------- */
 
-double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
+double PairCGMSShaped::cell_terms(int from, int to, int &bad)
 {
-  // F in registers: the scratch stores below could alias it
-  const double F[4] = {atom->darray[iF][i][0], atom->darray[iF][i][1], atom->darray[iF][i][2],
-                       atom->darray[iF][i][3]};
-  const WallPair *pairs = &walls[(size_t) i * pair_max];
-  const int nw = atom->ivector[inwall][i];
-  const int np = (nw + 1) / 2;
-  const double area0 = atom->dvector[iarea][i];
+  // the settings and arrays read once for all cells
+  double **Fs = atom->darray[iF];
+  double **fF = atom->darray[iforce];
+  const int *nwall = atom->ivector[inwall];
+  const double *area0s = atom->dvector[iarea];
   v2d *inv_len = wall_scratch.data(), *m1 = inv_len + pair_max, *de = m1 + pair_max;
   const double w = par.lamella * mat.pectin;
   const double buckle = par.buckle;
   const int contour = par.contour;
-
-  // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice);
-  // two walls per vector, then the sums over the walls in the walls' order
-  const double C11 = F[0] * F[0] + F[2] * F[2], C22 = F[1] * F[1] + F[3] * F[3];
-  const double C12x2 = 2.0 * (F[0] * F[1] + F[2] * F[3]);
-  double S = 0.0, sum_m = 0.0, wall = 0.0;
-  for (int p = 0; p < np; p++) {
-    const WallPair &wp = pairs[p];
-    const v2d len = sqrt2(C11 * wp.dxx + C12x2 * wp.dxy + C22 * wp.dyy);
-    inv_len[p] = 1.0 / len;
-    v2d m;
-    if (contour)
-      m = CGMS::Shaped::contour_length(len, wp.law.r, wp.delta, m1[p]);
-    else
-      m = len, m1[p] = v2d{1.0, 1.0};
-    const v2d e = CGMS::Shaped::wall_energy(len, wp.law, buckle, de[p]);
-    S += len[0];
-    sum_m += m[0];
-    wall += e[0];
-    if (2 * p + 1 < nw) {
-      S += len[1];
-      sum_m += m[1];
-      wall += e[1];
-    }
-  }
-  const double A_f = fluid_area0[i];
   const double P_T = dryness * mat.P_f;
-  double psi = 0.0, p1 = 0.0;
-  if (par.void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum[i], par.void_onset * eps, p1);
-  const double det = F[0] * F[3] - F[1] * F[2];
-  const double D = det * area0;
-  const double A = D * (1.0 - par.void_frac * psi) - w * sum_m;
-  if (!(A > 0.0)) {
-    bad = 1;
-    for (int k = 0; k < 4; k++) dEdF[k] = 0.0;
-    return 0.0;
-  }
+  const double K = mat.K, H = mat.height;
+  const double void_frac = par.void_frac, void_e1 = par.void_onset * eps;
+  double energy = 0.0;
+  for (int i = from; i < to; i++) {
+    // F in registers: the scratch stores below could alias it
+    const double F[4] = {Fs[i][0], Fs[i][1], Fs[i][2], Fs[i][3]};
+    double *dEdF = fF[i];
+    const WallPair *pairs = &walls[(size_t) i * pair_max];
+    const int nw = nwall[i];
+    const int np = (nw + 1) / 2;
+    const double area0 = area0s[i];
 
-  const double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height) + wall;
-  const double f1 = -mat.height * CGMS::Shaped::fluid_pressure(A, A_f, P_T, mat.K);
-
-  // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
-  const double c_S = -f1 * par.void_frac * D * p1, c_m = -f1 * w;
-  double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
-  for (int p = 0; p < np; p++) {
-    const v2d c = (c_S + c_m * m1[p] + de[p]) * inv_len[p];
-    const v2d xx = c * pairs[p].dxx, xy = c * pairs[p].dxy, yy = c * pairs[p].dyy;
-    Mxx += xx[0];
-    Mxy += xy[0];
-    Myy += yy[0];
-    if (2 * p + 1 < nw) {
-      Mxx += xx[1];
-      Mxy += xy[1];
-      Myy += yy[1];
+    // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice);
+    // two walls per vector, then the sums over the walls in the walls' order
+    const double C11 = F[0] * F[0] + F[2] * F[2], C22 = F[1] * F[1] + F[3] * F[3];
+    const double C12x2 = 2.0 * (F[0] * F[1] + F[2] * F[3]);
+    double S = 0.0, sum_m = 0.0, wall = 0.0;
+    for (int p = 0; p < np; p++) {
+      const WallPair &wp = pairs[p];
+      const v2d len = sqrt2(C11 * wp.dxx + C12x2 * wp.dxy + C22 * wp.dyy);
+      inv_len[p] = 1.0 / len;
+      v2d m;
+      if (contour)
+        m = CGMS::Shaped::contour_length(len, wp.law.r, wp.delta, m1[p]);
+      else
+        m = len, m1[p] = v2d{1.0, 1.0};
+      const v2d e = CGMS::Shaped::wall_energy(len, wp.law, buckle, de[p]);
+      S += len[0];
+      sum_m += m[0];
+      wall += e[0];
+      if (2 * p + 1 < nw) {
+        S += len[1];
+        sum_m += m[1];
+        wall += e[1];
+      }
     }
+    const double A_f = fluid_area0[i];
+    double psi = 0.0, p1 = 0.0;
+    if (void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum[i], void_e1, p1);
+    const double det = F[0] * F[3] - F[1] * F[2];
+    const double D = det * area0;
+    const double A = D * (1.0 - void_frac * psi) - w * sum_m;
+    if (!(A > 0.0)) {
+      bad = 1;
+      for (int k = 0; k < 4; k++) dEdF[k] = 0.0;
+      continue;
+    }
+
+    const double e = CGMS::Shaped::fluid_energy(A, A_f, P_T, K, H) + wall;
+    if (eflag_atom) eatom[i] += e;
+    energy += e;
+    const double f1 = -H * CGMS::Shaped::fluid_pressure(A, A_f, P_T, K);
+
+    // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
+    const double c_S = -f1 * void_frac * D * p1, c_m = -f1 * w;
+    double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
+    for (int p = 0; p < np; p++) {
+      const v2d c = (c_S + c_m * m1[p] + de[p]) * inv_len[p];
+      const v2d xx = c * pairs[p].dxx, xy = c * pairs[p].dxy, yy = c * pairs[p].dyy;
+      Mxx += xx[0];
+      Mxy += xy[0];
+      Myy += yy[0];
+      if (2 * p + 1 < nw) {
+        Mxx += xx[1];
+        Mxy += xy[1];
+        Myy += yy[1];
+      }
+    }
+    // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
+    const double fD = f1 * area0 * (1.0 - void_frac * psi);
+    dEdF[0] = fD * F[3] + F[0] * Mxx + F[1] * Mxy;
+    dEdF[1] = -fD * F[2] + F[0] * Mxy + F[1] * Myy;
+    dEdF[2] = -fD * F[1] + F[2] * Mxx + F[3] * Mxy;
+    dEdF[3] = fD * F[0] + F[2] * Mxy + F[3] * Myy;
   }
-  // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
-  const double fD = f1 * area0 * (1.0 - par.void_frac * psi);
-  dEdF[0] = fD * F[3] + F[0] * Mxx + F[1] * Mxy;
-  dEdF[1] = -fD * F[2] + F[0] * Mxy + F[1] * Myy;
-  dEdF[2] = -fD * F[1] + F[2] * Mxx + F[3] * Mxy;
-  dEdF[3] = fD * F[0] + F[2] * Mxy + F[3] * Myy;
   return energy;
 }
 
@@ -957,13 +970,8 @@ void PairCGMSShaped::compute(int eflag, int vflag)
 
   // fF holds the cells' dE/dF until bond_forces makes it -dE/dF
   double **fF = atom->darray[iforce];
-  double energy = 0.0;
   const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    const double e = cell_term(i, fF[i], bad);
-    if (eflag_atom) eatom[i] += e;
-    energy += e;
-  }
+  double energy = cell_terms(0, nlocal, bad);
   lj_terms();
   int nonfinite = -1;
   if (targets_valid) {
@@ -1007,9 +1015,8 @@ void PairCGMSShaped::refuse_inverted()
 {
   tagint who = 0;
   for (int i = 0; i < atom->nlocal && !who; i++) {
-    double dEdF[4];
     int bad = 0;
-    cell_term(i, dEdF, bad);
+    cell_terms(i, i + 1, bad);    // overwrites cell i's dE/dF: the run stops here
     if (bad) who = atom->tag[i];
   }
   error->one(FLERR,

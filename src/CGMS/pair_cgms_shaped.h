@@ -115,7 +115,7 @@ class PairCGMSShaped : public Pair {
   void fresh_strain_and_bond_length();
   void check_topology();
   void cache_fresh_data();
-  double cell_term(int i, double *dEdF, int &bad);
+  double cell_terms(int from, int to, int &bad);
   void cache_bonds();
   double bond_terms();
   template <int EATOM, int VIRIAL> double bond_terms_of();
