@@ -147,21 +147,35 @@ namespace CGMS {
       return D * (1.0 - void_frac) - w * L;
     }
 
-    // the bond target G(F) = (1 - iso) F + iso sqrt(det F) R(F), R the rotation of F's polar
-    // decomposition, R = [[p, -q], [q, p]] / |(p, q)|, p = a + d, q = c - b
-    // (shaped_tensor._bond_target). False when iso > 0 and det F <= 0 (no polar rotation of
-    // an inverted cell).
-    inline bool bond_target(const double *F, double iso, double *G)
+    // the polar part of F that the bond target and its derivative share: J = det F,
+    // p = a + d, q = c - b, r2 = p^2 + q^2 and phi = sqrt(J) / sqrt(r2), so that the polar
+    // rotation is R(F) = [[p, -q], [q, p]] / sqrt(r2). False when det F <= 0 (no polar
+    // rotation of an inverted cell).
+    struct Polar {
+      double J, p, q, r2, phi;
+    };
+    inline bool polar_part(const double *F, Polar &t)
     {
       const double a = F[0], b = F[1], c = F[2], d = F[3];
+      t.J = a * d - b * c;
+      if (!(t.J > 0.0)) return false;
+      t.p = a + d;
+      t.q = c - b;
+      t.r2 = t.p * t.p + t.q * t.q;
+      t.phi = std::sqrt(t.J) / std::sqrt(t.r2);
+      return true;
+    }
+
+    // the bond target G(F) = (1 - iso) F + iso sqrt(det F) R(F), R the rotation of F's polar
+    // decomposition (shaped_tensor._bond_target); t its polar part (set when iso > 0).
+    // False when iso > 0 and det F <= 0.
+    inline bool bond_target(const double *F, double iso, double *G, Polar &t)
+    {
       for (int m = 0; m < 4; m++) G[m] = (1.0 - iso) * F[m];
       if (iso == 0.0) return true;
-      const double J = a * d - b * c;
-      if (!(J > 0.0)) return false;
-      const double p = a + d, q = c - b;
-      const double phi = std::sqrt(J) / std::sqrt(p * p + q * q);
-      const double M[4] = {p, -q, q, p};
-      for (int m = 0; m < 4; m++) G[m] += iso * phi * M[m];
+      if (!polar_part(F, t)) return false;
+      const double M[4] = {t.p, -t.q, t.q, t.p};
+      for (int m = 0; m < 4; m++) G[m] += iso * t.phi * M[m];
       return true;
     }
 
@@ -169,9 +183,10 @@ namespace CGMS {
     // dG_m/dF_k, without forming the 4x4 dG: with G = (1 - iso) F + iso phi M, phi =
     // sqrt(J) / r, r = |(p, q)|, M = (p, -q, q, p), dG_m/dF_k = (1 - iso) delta_mk +
     // iso (M_m dphi/dF_k + phi dM_m/dF_k), dp/dF = (1, 0, 0, 1), dq/dF = (0, -1, 1, 0),
-    // dphi/dF = phi (cof(F) / (2 J) - (p dp/dF + q dq/dF) / r^2). Needs det F > 0 when
-    // iso > 0 (bond_target true).
-    inline void bond_target_pullback(const double *F, double iso, const double *v, double *out)
+    // dphi/dF = phi (cof(F) / (2 J) - (p dp/dF + q dq/dF) / r^2). t is F's polar part (from
+    // bond_target, needed when iso > 0).
+    inline void bond_target_pullback(const double *F, double iso, const double *v, const Polar &t,
+                                     double *out)
     {
       const double keep = 1.0 - iso;
       if (iso == 0.0) {
@@ -179,15 +194,12 @@ namespace CGMS {
         return;
       }
       const double a = F[0], b = F[1], c = F[2], d = F[3];
-      const double J = a * d - b * c;
-      const double p = a + d, q = c - b;
-      const double r2 = p * p + q * q;
-      const double phi = std::sqrt(J) / std::sqrt(r2);
+      const double J = t.J, p = t.p, q = t.q, r2 = t.r2;
       const double vM = v[0] * p - v[1] * q + v[2] * q + v[3] * p;
       const double vp = v[0] + v[3], vq = v[2] - v[1];    // v . dM/dp and v . dM/dq
       // iso (vM dphi/dF + phi (vp dp/dF + vq dq/dF)), dphi/dF = phi (cof(F) / (2 J) - (p
       // dp/dF + q dq/dF) / r^2), cof(F) = (d, -c, -b, a), written out per component
-      const double isophi = iso * phi;
+      const double isophi = iso * t.phi;
       const double gJ = isophi * vM / (2.0 * J), gr = isophi * vM / r2;
       const double P = isophi * vp - gr * p, Q = isophi * vq - gr * q;
       out[0] = keep * v[0] + gJ * d + P;

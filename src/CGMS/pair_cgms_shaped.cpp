@@ -70,8 +70,8 @@ static const char *const PROPERTY_HINT =
 PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
     Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
     iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
-    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), pair_max(0), lists_asymmetric(false), target(nullptr),
-    nmax_target(0), min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
+    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), pair_max(0), lists_asymmetric(false),
+    target(nullptr), nmax_target(0), min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -847,7 +847,7 @@ int PairCGMSShaped::bond_forces()
     // f/2 m (x) d0 row-major from its columns (m d0x, m d0y)
     const double v[4] = {si[2], si[4], si[3], si[5]};
     double dm[4];
-    CGMS::Shaped::bond_target_pullback(F[i], par.iso, v, dm);
+    CGMS::Shaped::bond_target_pullback(F[i], par.iso, v, polar[i], dm);
     for (int k = 0; k < 4; k++) fFi[k] = -(fFi[k] - k_g * dm[k]);
     // & (not &&): six comparisons without a branch each
     const bool finite = (std::fabs(fi[0]) < limit) & (std::fabs(fi[1]) < limit) &
@@ -955,10 +955,13 @@ void PairCGMSShaped::compute(int eflag, int vflag)
     memory->create(target, 4 * nmax_target, "pair:target");
   }
   double **F = atom->darray[iF];
+  const int nlocal = atom->nlocal;
+  polar.resize(nlocal);
   int bad = 0;
   for (int i = 0; i < nall; i++) {
     double G[4];
-    if (!CGMS::Shaped::bond_target(F[i], par.iso, G)) bad = 1;
+    CGMS::Shaped::Polar ghost;    // a local bead's polar part is kept for bond_forces
+    if (!CGMS::Shaped::bond_target(F[i], par.iso, G, i < nlocal ? polar[i] : ghost)) bad = 1;
     // by columns, (G11, G21) and (G12, G22), as bond_terms reads them
     double *t = target + 4 * i;
     t[0] = G[0];
@@ -970,7 +973,6 @@ void PairCGMSShaped::compute(int eflag, int vflag)
 
   // fF holds the cells' dE/dF until bond_forces makes it -dE/dF
   double **fF = atom->darray[iforce];
-  const int nlocal = atom->nlocal;
   double energy = cell_terms(0, nlocal, bad);
   lj_terms();
   int nonfinite = -1;
@@ -1183,6 +1185,7 @@ double PairCGMSShaped::memory_usage()
                 rest_sum.capacity() + fluid_area0.capacity() + bond_sums.capacity()) *
           sizeof(double) +
       (double) bonds.capacity() * sizeof(Bond) +
+      (double) polar.capacity() * sizeof(CGMS::Shaped::Polar) +
       (double) (bond_first.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
   return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double) + caches;
 }

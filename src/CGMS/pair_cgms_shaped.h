@@ -99,10 +99,11 @@ class PairCGMSShaped : public Pair {
   // per local bead, summed over its bonds: m and f/2 m (x) d0 by columns (f/2 m d0x, then
   // f/2 m d0y), for its force and its bonds' dE/dF
   std::vector<double> bond_sums;
-  std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
-  std::vector<v2d> wall_scratch;          // per wall pair of one cell: 1 / l_e, dm/dl_e, dE/dl_e
-  int cache_current;                      // 0 after init_style: rebuild before the next evaluation
-  std::string material_file;              // pair_coeff's arguments, for the restart record
+  std::vector<CGMS::Shaped::Polar> polar;    // per local bead, F's polar part (bond_target)
+  std::vector<int> pair_first, pair_j;       // the LJ pairs: the list without fresh neighbours
+  std::vector<v2d> wall_scratch;             // per wall pair of one cell: 1 / l_e, dm/dl_e, dE/dl_e
+  int cache_current;            // 0 after init_style: rebuild before the next evaluation
+  std::string material_file;    // pair_coeff's arguments, for the restart record
 
   void allocate();
   void add_force_property();
