@@ -17,6 +17,9 @@
 #include "cgms_laws.h"
 
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace LAMMPS_NS {
 namespace CGMS {
@@ -73,15 +76,32 @@ namespace CGMS {
       const double k = EA / r;
       return {r, k, 0.5 * k, r - buckle / k, 0.5 * buckle * buckle / k, soft * k, 0.5 * soft * k};
     }
-    // true when c holds in every lane: a vector's walls all on one side of a law skip the
-    // other side's arithmetic and the selects (for a double, the scalar law's branch)
+    // true when c holds in every lane (all_lanes) or in none (no_lane): a vector's walls all
+    // on one side of a law skip the other side's arithmetic and the selects (for a double,
+    // the scalar law's branch). The mask of a two-lane vector in one instruction on x86-64
     inline bool all_lanes(bool c)
     {
       return c;
     }
+    inline bool no_lane(bool c)
+    {
+      return !c;
+    }
+    template <typename M> inline int lane_bits(M c)
+    {
+#if defined(__SSE2__)
+      return _mm_movemask_pd((__m128d) c);
+#else
+      return (c[0] ? 1 : 0) | (c[1] ? 2 : 0);
+#endif
+    }
     template <typename M> inline bool all_lanes(M c)
     {
-      return (c[0] & c[1]) != 0;
+      return lane_bits(c) == 3;
+    }
+    template <typename M> inline bool no_lane(M c)
+    {
+      return lane_bits(c) == 0;
     }
 
     template <typename T> inline T wall_energy(T l, const WallLawOf<T> &w, double buckle, T &de)
@@ -94,7 +114,7 @@ namespace CGMS {
       }
       const T de_b = -buckle - w.soft_k * shortening;
       const T e_b = w.e_b + buckle * shortening + w.half_soft_k * shortening * shortening;
-      if (all_lanes(!stretched)) {
+      if (no_lane(stretched)) {
         de = de_b;
         return e_b;
       }
