@@ -631,7 +631,7 @@ void PairCGMSShaped::cache_bonds()
 }
 
 /* ----------------------------------------------------------------------
-   the cells' fluid and wall energy (summed over local beads from .. to - 1, and per atom)
+   the fluid and wall energy of the cells of local beads from <= i < to (summed, and per atom)
    and each cell's derivative dE/dF, written to the force property (shaped_tensor.energy):
    walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e (cached);
    fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1 when
