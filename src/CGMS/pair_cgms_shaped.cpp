@@ -669,7 +669,8 @@ double PairCGMSShaped::cell_terms(int from, int to, int &bad)
     // two walls per vector, then the sums over the walls in the walls' order
     const double C11 = F[0] * F[0] + F[2] * F[2], C22 = F[1] * F[1] + F[3] * F[3];
     const double C12x2 = 2.0 * (F[0] * F[1] + F[2] * F[3]);
-    double S = 0.0, sum_m = 0.0, wall = 0.0;
+    v2d S_m = {0.0, 0.0};
+    double wall = 0.0;
     for (int p = 0; p < np; p++) {
       const WallPair &wp = pairs[p];
       const v2d len = sqrt2(C11 * wp.dxx + C12x2 * wp.dxy + C22 * wp.dyy);
@@ -680,15 +681,15 @@ double PairCGMSShaped::cell_terms(int from, int to, int &bad)
       else
         m = len, m1[p] = v2d{1.0, 1.0};
       const v2d e = CGMS::Shaped::wall_energy(len, wp.law, buckle, de[p]);
-      S += len[0];
-      sum_m += m[0];
+      // (S, sum_m) as the two lanes of one sum, wall by wall
+      S_m += v2d{len[0], m[0]};
       wall += e[0];
       if (2 * p + 1 < nw) {
-        S += len[1];
-        sum_m += m[1];
+        S_m += v2d{len[1], m[1]};
         wall += e[1];
       }
     }
+    const double S = S_m[0], sum_m = S_m[1];
     const double A_f = fluid_area0[i];
     double psi = 0.0, p1 = 0.0;
     if (void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum[i], void_e1, p1);
@@ -708,19 +709,19 @@ double PairCGMSShaped::cell_terms(int from, int to, int &bad)
 
     // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
     const double c_S = -f1 * void_frac * D * p1, c_m = -f1 * w;
-    double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
+    v2d Mxx_xy = {0.0, 0.0};    // (Mxx, Mxy) as the two lanes of one sum, wall by wall
+    double Myy = 0.0;
     for (int p = 0; p < np; p++) {
       const v2d c = (c_S + c_m * m1[p] + de[p]) * inv_len[p];
       const v2d xx = c * pairs[p].dxx, xy = c * pairs[p].dxy, yy = c * pairs[p].dyy;
-      Mxx += xx[0];
-      Mxy += xy[0];
+      Mxx_xy += v2d{xx[0], xy[0]};
       Myy += yy[0];
       if (2 * p + 1 < nw) {
-        Mxx += xx[1];
-        Mxy += xy[1];
+        Mxx_xy += v2d{xx[1], xy[1]};
         Myy += yy[1];
       }
     }
+    const double Mxx = Mxx_xy[0], Mxy = Mxx_xy[1];
     // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
     const double fD = f1 * area0 * (1.0 - void_frac * psi);
     dEdF[0] = fD * F[3] + F[0] * Mxx + F[1] * Mxy;
