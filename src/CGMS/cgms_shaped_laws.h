@@ -17,6 +17,9 @@
 #include "cgms_laws.h"
 
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace LAMMPS_NS {
 namespace CGMS {
@@ -58,49 +61,85 @@ namespace CGMS {
     // mildly compressed; shorter than r - buckle r / EA it buckles and pushes with buckle
     // plus soft EA/r times the further shortening (shaped.wall_energy); de = dE/dl. The
     // law's constants of one wall (WallLaw, from wall_law) are fixed: pair cgms/shaped
-    // keeps them per neighbour list
-    struct WallLaw {
-      double r, k, half_k;    // rest length, stiffness EA / r, k / 2
-      double lb;              // buckling length r - buckle / k
-      double e_b;             // the energy at lb, buckle^2 / (2 k)
-      double soft_k, half_soft_k;
+    // keeps them per neighbour list. T is double or a vector of doubles (GCC/Clang vector
+    // extensions: the comparisons give masks, ?: selects per lane): where the lanes
+    // differ, both sides are computed, each with the scalar code's operations
+    template <typename T> struct WallLawOf {
+      T r, k, half_k;    // rest length, stiffness EA / r, k / 2
+      T lb;              // buckling length r - buckle / k
+      T e_b;             // the energy at lb, buckle^2 / (2 k)
+      T soft_k, half_soft_k;
     };
+    typedef WallLawOf<double> WallLaw;
     inline WallLaw wall_law(double r, double EA, double buckle, double soft)
     {
       const double k = EA / r;
       return {r, k, 0.5 * k, r - buckle / k, 0.5 * buckle * buckle / k, soft * k, 0.5 * soft * k};
     }
-    inline double wall_energy(double l, const WallLaw &w, double buckle, double &de)
+    // true when c holds in every lane (all_lanes) or in none (no_lane): a vector's walls all
+    // on one side of a law skip the other side's arithmetic and the selects (for a double,
+    // the scalar law's branch). The mask of a two-lane vector in one instruction on x86-64
+    inline bool all_lanes(bool c)
     {
-      if (l >= w.lb) {
-        de = w.k * (l - w.r);
-        return w.half_k * (l - w.r) * (l - w.r);
-      }
-      const double shortening = w.lb - l;
-      de = -buckle - w.soft_k * shortening;
-      return w.e_b + buckle * shortening + w.half_soft_k * shortening * shortening;
+      return c;
+    }
+    inline bool no_lane(bool c)
+    {
+      return !c;
+    }
+    template <typename M> inline int lane_bits(M c)
+    {
+#if defined(__SSE2__)
+      return _mm_movemask_pd((__m128d) c);
+#else
+      return (c[0] ? 1 : 0) | (c[1] ? 2 : 0);
+#endif
+    }
+    template <typename M> inline bool all_lanes(M c)
+    {
+      return lane_bits(c) == 3;
+    }
+    template <typename M> inline bool no_lane(M c)
+    {
+      return lane_bits(c) == 0;
     }
 
-    // a wall's length along its folds (the strip's length): the chord, or with contour
-    // max(chord, rest) joined C1 over chord - rest in +-delta (shaped_tensor.contour_length);
-    // m1 = dm/dl
-    inline double contour_length(double l, double r, double delta, int contour, double &m1)
+    template <typename T> inline T wall_energy(T l, const WallLawOf<T> &w, double buckle, T &de)
     {
-      if (!contour) {
-        m1 = 1.0;
-        return l;
+      const auto stretched = l >= w.lb;
+      const T stretch = l - w.r, shortening = w.lb - l;
+      if (all_lanes(stretched)) {
+        de = w.k * stretch;
+        return w.half_k * stretch * stretch;
       }
-      const double t = l - r;
-      if (t >= delta) {
-        m1 = 1.0;
-        return l;
+      const T de_b = -buckle - w.soft_k * shortening;
+      const T e_b = w.e_b + buckle * shortening + w.half_soft_k * shortening * shortening;
+      if (no_lane(stretched)) {
+        de = de_b;
+        return e_b;
       }
-      if (t <= -delta) {
-        m1 = 0.0;
+      de = stretched ? w.k * stretch : de_b;
+      return stretched ? w.half_k * stretch * stretch : e_b;
+    }
+
+    // a wall's length along its folds (the strip's length): max(chord, rest) joined C1 over
+    // chord - rest in +-delta (shaped_tensor.contour_length; with contour 0 the strip is the
+    // chord itself, m = l); m1 = dm/dl. T double or a vector, as in wall_energy
+    template <typename T> inline T contour_length(T l, T r, T delta, T &m1)
+    {
+      const T t = l - r, zero = T{};
+      const auto above = t >= delta, below = t <= -delta;
+      if (all_lanes(below)) {
+        m1 = zero;
         return r;
       }
-      m1 = (t + delta) / (2.0 * delta);
-      return r + (t + delta) * (t + delta) / (4.0 * delta);
+      if (all_lanes(above)) {
+        m1 = zero + 1.0;
+        return l;
+      }
+      const T from_low = t + delta;
+      m1 = above ? zero + 1.0 : (below ? zero : from_low / (2.0 * delta));
+      return above ? l : (below ? r : r + from_low * from_low / (4.0 * delta));
     }
 
     // the open fraction psi of a cell's intercellular space from its chord sum S, the
@@ -128,21 +167,35 @@ namespace CGMS {
       return D * (1.0 - void_frac) - w * L;
     }
 
-    // the bond target G(F) = (1 - iso) F + iso sqrt(det F) R(F), R the rotation of F's polar
-    // decomposition, R = [[p, -q], [q, p]] / |(p, q)|, p = a + d, q = c - b
-    // (shaped_tensor._bond_target). False when iso > 0 and det F <= 0 (no polar rotation of
-    // an inverted cell).
-    inline bool bond_target(const double *F, double iso, double *G)
+    // the polar part of F that the bond target and its derivative share: J = det F,
+    // p = a + d, q = c - b, r2 = p^2 + q^2 and phi = sqrt(J) / sqrt(r2), so that the polar
+    // rotation is R(F) = [[p, -q], [q, p]] / sqrt(r2). False when det F <= 0 (no polar
+    // rotation of an inverted cell).
+    struct Polar {
+      double J, p, q, r2, phi;
+    };
+    inline bool polar_part(const double *F, Polar &t)
     {
       const double a = F[0], b = F[1], c = F[2], d = F[3];
+      t.J = a * d - b * c;
+      if (!(t.J > 0.0)) return false;
+      t.p = a + d;
+      t.q = c - b;
+      t.r2 = t.p * t.p + t.q * t.q;
+      t.phi = std::sqrt(t.J) / std::sqrt(t.r2);
+      return true;
+    }
+
+    // the bond target G(F) = (1 - iso) F + iso sqrt(det F) R(F), R the rotation of F's polar
+    // decomposition (shaped_tensor._bond_target); t its polar part (set when iso > 0).
+    // False when iso > 0 and det F <= 0.
+    inline bool bond_target(const double *F, double iso, double *G, Polar &t)
+    {
       for (int m = 0; m < 4; m++) G[m] = (1.0 - iso) * F[m];
       if (iso == 0.0) return true;
-      const double J = a * d - b * c;
-      if (!(J > 0.0)) return false;
-      const double p = a + d, q = c - b;
-      const double phi = std::sqrt(J) / std::sqrt(p * p + q * q);
-      const double M[4] = {p, -q, q, p};
-      for (int m = 0; m < 4; m++) G[m] += iso * phi * M[m];
+      if (!polar_part(F, t)) return false;
+      const double M[4] = {t.p, -t.q, t.q, t.p};
+      for (int m = 0; m < 4; m++) G[m] += iso * t.phi * M[m];
       return true;
     }
 
@@ -150,9 +203,10 @@ namespace CGMS {
     // dG_m/dF_k, without forming the 4x4 dG: with G = (1 - iso) F + iso phi M, phi =
     // sqrt(J) / r, r = |(p, q)|, M = (p, -q, q, p), dG_m/dF_k = (1 - iso) delta_mk +
     // iso (M_m dphi/dF_k + phi dM_m/dF_k), dp/dF = (1, 0, 0, 1), dq/dF = (0, -1, 1, 0),
-    // dphi/dF = phi (cof(F) / (2 J) - (p dp/dF + q dq/dF) / r^2). Needs det F > 0 when
-    // iso > 0 (bond_target true).
-    inline void bond_target_pullback(const double *F, double iso, const double *v, double *out)
+    // dphi/dF = phi (cof(F) / (2 J) - (p dp/dF + q dq/dF) / r^2). t is F's polar part (from
+    // bond_target, needed when iso > 0).
+    inline void bond_target_pullback(const double *F, double iso, const double *v, const Polar &t,
+                                     double *out)
     {
       const double keep = 1.0 - iso;
       if (iso == 0.0) {
@@ -160,15 +214,12 @@ namespace CGMS {
         return;
       }
       const double a = F[0], b = F[1], c = F[2], d = F[3];
-      const double J = a * d - b * c;
-      const double p = a + d, q = c - b;
-      const double r2 = p * p + q * q;
-      const double phi = std::sqrt(J) / std::sqrt(r2);
+      const double J = t.J, p = t.p, q = t.q, r2 = t.r2;
       const double vM = v[0] * p - v[1] * q + v[2] * q + v[3] * p;
       const double vp = v[0] + v[3], vq = v[2] - v[1];    // v . dM/dp and v . dM/dq
       // iso (vM dphi/dF + phi (vp dp/dF + vq dq/dF)), dphi/dF = phi (cof(F) / (2 J) - (p
       // dp/dF + q dq/dF) / r^2), cof(F) = (d, -c, -b, a), written out per component
-      const double isophi = iso * phi;
+      const double isophi = iso * t.phi;
       const double gJ = isophi * vM / (2.0 * J), gr = isophi * vM / r2;
       const double P = isophi * vp - gr * p, Q = isophi * vq - gr * q;
       out[0] = keep * v[0] + gJ * d + P;

@@ -23,9 +23,37 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 using namespace LAMMPS_NS;
 using CGMS::Shaped::Params;
+
+// two doubles per instruction where a bead's x and y (or a 2x2 matrix's two rows) follow
+// the same formula (GCC and Clang vector extensions; SSE2 on x86-64, two scalar
+// instructions elsewhere): each lane does the scalar code's operations in the same order,
+// so the results are bit-identical to it
+typedef PairCGMSShaped::v2d v2d;
+static inline v2d load2(const double *p)
+{
+  v2d v;
+  memcpy(&v, p, sizeof(v));
+  return v;
+}
+static inline void store2(double *p, v2d v)
+{
+  memcpy(p, &v, sizeof(v));
+}
+// sqrt of both lanes, correctly rounded as std::sqrt
+static inline v2d sqrt2(v2d q)
+{
+#if defined(__SSE2__)
+  return (v2d) _mm_sqrt_pd((__m128d) q);
+#else
+  return v2d{std::sqrt(q[0]), std::sqrt(q[1])};
+#endif
+}
 
 // the per-atom properties the data file gives every bead (python/cgms/shaped_data.py)
 // the cutoff need not reach beyond a few fresh bonds: a larger reach only fills the ghost
@@ -44,8 +72,8 @@ static const char *const PROPERTY_HINT =
 PairCGMSShaped::PairCGMSShaped(LAMMPS *lmp) :
     Pair(lmp), dryness(-1.0), reach(1.25), cut_global(0.0), eps(0.0), bond_max(0.0), dof_scale(1.0),
     iF(-1), inb(-1), ibondx(-1), ibondy(-1), iwallx(-1), iwally(-1), iid(-1), inwall(-1), iarea(-1),
-    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), lists_asymmetric(false), target(nullptr),
-    nmax_target(0), min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
+    iboundary(-1), iforce(-1), nb_max(0), wall_max(0), pair_max(0), lists_asymmetric(false),
+    target(nullptr), nmax_target(0), min_x(nullptr), min_f(nullptr), nmax_min(0), cache_current(0)
 {
   single_enable = 0;
   restartinfo = 1;
@@ -533,20 +561,36 @@ void PairCGMSShaped::cache_fresh_data()
   const double *area0 = atom->dvector[iarea];
   double **wallx = atom->darray[iwallx], **wally = atom->darray[iwally];
 
-  walls.resize((size_t) nlocal * wall_max);
-  wall_scratch.resize(3 * (size_t) wall_max);
+  pair_max = (wall_max + 1) / 2;
+  walls.resize((size_t) nlocal * pair_max);
+  wall_scratch.resize(3 * (size_t) pair_max);
   rest_sum.resize(nlocal);
   fluid_area0.resize(nlocal);
   for (int i = 0; i < nlocal; i++) {
-    Wall *wall = &walls[(size_t) i * wall_max];
+    WallPair *pairs = &walls[(size_t) i * pair_max];
     double L0 = 0.0, R = 0.0;
     for (int e = 0; e < nwall[i]; e++) {
       const double dx = wallx[i][e], dy = wally[i][e];
       const double chord0 = std::sqrt(dx * dx + dy * dy);
       L0 += chord0;
       const double rest = chord0 / (1.0 + eps) * contraction;
-      wall[e] = {dx * dx, dx * dy, dy * dy, par.smooth * eps * rest,
-                 CGMS::Shaped::wall_law(rest, par.wall_EA, par.buckle, par.soft)};
+      const CGMS::Shaped::WallLaw law =
+          CGMS::Shaped::wall_law(rest, par.wall_EA, par.buckle, par.soft);
+      // lane e % 2 of pair e / 2; the last wall of an odd cell fills both lanes
+      for (int lane = e % 2; lane < (e + 1 == nwall[i] ? 2 : e % 2 + 1); lane++) {
+        WallPair &p = pairs[e / 2];
+        p.dxx[lane] = dx * dx;
+        p.dxy[lane] = dx * dy;
+        p.dyy[lane] = dy * dy;
+        p.delta[lane] = par.smooth * eps * rest;
+        p.law.r[lane] = law.r;
+        p.law.k[lane] = law.k;
+        p.law.half_k[lane] = law.half_k;
+        p.law.lb[lane] = law.lb;
+        p.law.e_b[lane] = law.e_b;
+        p.law.soft_k[lane] = law.soft_k;
+        p.law.half_soft_k[lane] = law.half_soft_k;
+      }
       R += rest;
     }
     rest_sum[i] = R;
@@ -589,7 +633,8 @@ void PairCGMSShaped::cache_bonds()
 }
 
 /* ----------------------------------------------------------------------
-   cell i's fluid and wall energy and its derivative dE/dF (shaped_tensor.energy):
+   the fluid and wall energy of the cells of local beads from <= i < to (summed, and per atom)
+   and each cell's derivative dE/dF, written to the force property (shaped_tensor.energy):
    walls e with fresh vectors d0_e, chords l_e = |F d0_e|, rest lengths r_e (cached);
    fluid area A = det(F) A_poly0 (1 - void psi) - w sum m(l_e, r_e); bad = 1 when
    A <= 0 (infinite energy, no gradient). dl_e/dF = F d0_e d0_e^T / l_e, so
@@ -598,62 +643,94 @@ void PairCGMSShaped::cache_bonds()
    walls finds l_e, the second, once P is known, sums the symmetric 2x2 matrices.
 ------------------------------------------------------------------------- */
 
-double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
+double PairCGMSShaped::cell_terms(int from, int to, int &bad)
 {
-  // F in registers: the scratch stores below could alias it
-  const double F[4] = {atom->darray[iF][i][0], atom->darray[iF][i][1], atom->darray[iF][i][2],
-                       atom->darray[iF][i][3]};
-  const Wall *walls_i = &walls[(size_t) i * wall_max];
-  const int nw = atom->ivector[inwall][i];
-  const double area0 = atom->dvector[iarea][i];
-  double *inv_len = wall_scratch.data(), *m1 = inv_len + wall_max, *de = m1 + wall_max;
+  // the settings and arrays read once for all cells
+  double **Fs = atom->darray[iF];
+  double **fF = atom->darray[iforce];
+  const int *nwall = atom->ivector[inwall];
+  const double *area0s = atom->dvector[iarea];
+  v2d *inv_len = wall_scratch.data(), *m1 = inv_len + pair_max, *de = m1 + pair_max;
   const double w = par.lamella * mat.pectin;
   const double buckle = par.buckle;
   const int contour = par.contour;
-
-  // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice)
-  const double C11 = F[0] * F[0] + F[2] * F[2], C22 = F[1] * F[1] + F[3] * F[3];
-  const double C12x2 = 2.0 * (F[0] * F[1] + F[2] * F[3]);
-  double S = 0.0, sum_m = 0.0, wall = 0.0;
-  for (int e = 0; e < nw; e++) {
-    const Wall &we = walls_i[e];
-    const double len = std::sqrt(C11 * we.dxx + C12x2 * we.dxy + C22 * we.dyy);
-    inv_len[e] = 1.0 / len;
-    S += len;
-    sum_m += CGMS::Shaped::contour_length(len, we.law.r, we.delta, contour, m1[e]);
-    wall += CGMS::Shaped::wall_energy(len, we.law, buckle, de[e]);
-  }
-  const double A_f = fluid_area0[i];
   const double P_T = dryness * mat.P_f;
-  double psi = 0.0, p1 = 0.0;
-  if (par.void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum[i], par.void_onset * eps, p1);
-  const double det = F[0] * F[3] - F[1] * F[2];
-  const double D = det * area0;
-  const double A = D * (1.0 - par.void_frac * psi) - w * sum_m;
-  if (!(A > 0.0)) {
-    bad = 1;
-    for (int k = 0; k < 4; k++) dEdF[k] = 0.0;
-    return 0.0;
-  }
+  const double K = mat.K, H = mat.height;
+  const double void_frac = par.void_frac, void_e1 = par.void_onset * eps;
+  double energy = 0.0;
+  for (int i = from; i < to; i++) {
+    // F in registers: the scratch stores below could alias it
+    const double F[4] = {Fs[i][0], Fs[i][1], Fs[i][2], Fs[i][3]};
+    double *dEdF = fF[i];
+    const WallPair *pairs = &walls[(size_t) i * pair_max];
+    const int nw = nwall[i];
+    const int np = (nw + 1) / 2;
+    const double area0 = area0s[i];
 
-  const double energy = CGMS::Shaped::fluid_energy(A, A_f, P_T, mat.K, mat.height) + wall;
-  const double f1 = -mat.height * CGMS::Shaped::fluid_pressure(A, A_f, P_T, mat.K);
+    // l_e^2 = |F d0_e|^2 = d0_e^T C d0_e with C = F^T F (C12 doubled: d0x d0y appears twice);
+    // two walls per vector, then the sums over the walls in the walls' order
+    const double C11 = F[0] * F[0] + F[2] * F[2], C22 = F[1] * F[1] + F[3] * F[3];
+    const double C12x2 = 2.0 * (F[0] * F[1] + F[2] * F[3]);
+    v2d S_m = {0.0, 0.0};
+    double wall = 0.0;
+    for (int p = 0; p < np; p++) {
+      const WallPair &wp = pairs[p];
+      const v2d len = sqrt2(C11 * wp.dxx + C12x2 * wp.dxy + C22 * wp.dyy);
+      inv_len[p] = 1.0 / len;
+      v2d m;
+      if (contour)
+        m = CGMS::Shaped::contour_length(len, wp.law.r, wp.delta, m1[p]);
+      else
+        m = len, m1[p] = v2d{1.0, 1.0};
+      const v2d e = CGMS::Shaped::wall_energy(len, wp.law, buckle, de[p]);
+      // (S, sum_m) as the two lanes of one sum, wall by wall
+      S_m += v2d{len[0], m[0]};
+      wall += e[0];
+      if (2 * p + 1 < nw) {
+        S_m += v2d{len[1], m[1]};
+        wall += e[1];
+      }
+    }
+    const double S = S_m[0], sum_m = S_m[1];
+    const double A_f = fluid_area0[i];
+    double psi = 0.0, p1 = 0.0;
+    if (void_frac != 0.0) psi = CGMS::Shaped::void_open(S, rest_sum[i], void_e1, p1);
+    const double det = F[0] * F[3] - F[1] * F[2];
+    const double D = det * area0;
+    const double A = D * (1.0 - void_frac * psi) - w * sum_m;
+    if (!(A > 0.0)) {
+      bad = 1;
+      for (int k = 0; k < 4; k++) dEdF[k] = 0.0;
+      continue;
+    }
 
-  // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
-  const double c_S = -f1 * par.void_frac * D * p1, c_m = -f1 * w;
-  double Mxx = 0.0, Mxy = 0.0, Myy = 0.0;
-  for (int e = 0; e < nw; e++) {
-    const double c = (c_S + c_m * m1[e] + de[e]) * inv_len[e];
-    Mxx += c * walls_i[e].dxx;
-    Mxy += c * walls_i[e].dxy;
-    Myy += c * walls_i[e].dyy;
+    const double e = CGMS::Shaped::fluid_energy(A, A_f, P_T, K, H) + wall;
+    if (eflag_atom) eatom[i] += e;
+    energy += e;
+    const double f1 = -H * CGMS::Shaped::fluid_pressure(A, A_f, P_T, K);
+
+    // c_e = f1 dA/dl_e + dE_wall/dl_e, dA/dl_e = -void D p1 - w m1_e
+    const double c_S = -f1 * void_frac * D * p1, c_m = -f1 * w;
+    v2d Mxx_xy = {0.0, 0.0};    // (Mxx, Mxy) as the two lanes of one sum, wall by wall
+    double Myy = 0.0;
+    for (int p = 0; p < np; p++) {
+      const v2d c = (c_S + c_m * m1[p] + de[p]) * inv_len[p];
+      const v2d xx = c * pairs[p].dxx, xy = c * pairs[p].dxy, yy = c * pairs[p].dyy;
+      Mxx_xy += v2d{xx[0], xy[0]};
+      Myy += yy[0];
+      if (2 * p + 1 < nw) {
+        Mxx_xy += v2d{xx[1], xy[1]};
+        Myy += yy[1];
+      }
+    }
+    const double Mxx = Mxx_xy[0], Mxy = Mxx_xy[1];
+    // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
+    const double fD = f1 * area0 * (1.0 - void_frac * psi);
+    dEdF[0] = fD * F[3] + F[0] * Mxx + F[1] * Mxy;
+    dEdF[1] = -fD * F[2] + F[0] * Mxy + F[1] * Myy;
+    dEdF[2] = -fD * F[1] + F[2] * Mxx + F[3] * Mxy;
+    dEdF[3] = fD * F[0] + F[2] * Mxy + F[3] * Myy;
   }
-  // f1 dD/dF (1 - void psi) + F M, dD/dF = A_poly0 cof(F)
-  const double fD = f1 * area0 * (1.0 - par.void_frac * psi);
-  dEdF[0] = fD * F[3] + F[0] * Mxx + F[1] * Mxy;
-  dEdF[1] = -fD * F[2] + F[0] * Mxy + F[1] * Myy;
-  dEdF[2] = -fD * F[1] + F[2] * Mxx + F[3] * Mxy;
-  dEdF[3] = fD * F[0] + F[2] * Mxy + F[3] * Myy;
   return energy;
 }
 
@@ -669,7 +746,15 @@ double PairCGMSShaped::cell_term(int i, double *dEdF, int &bad)
 
 double PairCGMSShaped::bond_terms()
 {
-  double **x = atom->x;
+  if (eflag_atom) return vflag_either ? bond_terms_of<1, 1>() : bond_terms_of<1, 0>();
+  return vflag_either ? bond_terms_of<0, 1>() : bond_terms_of<0, 0>();
+}
+
+// the per-atom energy (EATOM) and the virial (VIRIAL) as template arguments: no test of
+// either flag per bond
+template <int EATOM, int VIRIAL> double PairCGMSShaped::bond_terms_of()
+{
+  const double *x = atom->x[0];    // 3 per bead, contiguous
   const int nlocal = atom->nlocal;
   const double k_g = par.kg_ratio * par.wall_EA / mat.x_ref;
   const Bond *bond_list = bonds.data();
@@ -678,49 +763,42 @@ double PairCGMSShaped::bond_terms()
   std::fill(bond_sums.begin(), bond_sums.end(), 0.0);
   double energy = 0.0;
   for (int i = 0; i < nlocal; i++) {
-    const double G0 = target[4 * i], G1 = target[4 * i + 1], G2 = target[4 * i + 2],
-                 G3 = target[4 * i + 3];
-    const double xi = x[i][0], yi = x[i][1];
-    // bead i's sums in registers: |m|^2 (paired bonds twice), m, f/2 m (x) d0
-    double msq = 0.0, mx = 0.0, my = 0.0, md0 = 0.0, md1 = 0.0, md2 = 0.0, md3 = 0.0;
+    // G(F_i) by columns, (G0, G2) and (G1, G3)
+    const v2d Gi0 = load2(target + 4 * i), Gi1 = load2(target + 4 * i + 2);
+    const v2d xi = load2(x + 3 * i);
+    // bead i's sums in registers: |m|^2 (paired bonds twice), m, f/2 m d0x, f/2 m d0y
+    double msq = 0.0;
+    v2d m_sum = {0.0, 0.0}, md0x = {0.0, 0.0}, md0y = {0.0, 0.0};
     for (int b = first[i]; b < first[i + 1]; b++) {
       const Bond &bond = bond_list[b];
       const int j = bond.j;
       const double hdx = bond.hdx, hdy = bond.hdy;
       const double *Gj = target + 4 * j;
-      const double m0 = x[j][0] - xi - ((G0 + Gj[0]) * hdx + (G1 + Gj[1]) * hdy);
-      const double m1 = x[j][1] - yi - ((G2 + Gj[2]) * hdx + (G3 + Gj[3]) * hdy);
-      const double sq = m0 * m0 + m1 * m1;
-      const double a0 = m0 * hdx, a1 = m0 * hdy, a2 = m1 * hdx, a3 = m1 * hdy;
+      const v2d m =
+          (load2(x + 3 * j) - xi) - ((Gi0 + load2(Gj)) * hdx + (Gi1 + load2(Gj + 2)) * hdy);
+      const v2d m2 = m * m;
+      const double sq = m2[0] + m2[1];
+      const v2d ax = m * hdx, ay = m * hdy;
       msq += sq;
-      mx += m0;
-      my += m1;
-      md0 += a0;
-      md1 += a1;
-      md2 += a2;
-      md3 += a3;
+      m_sum += m;
+      md0x += ax;
+      md0y += ay;
       if (bond.paired) {
         double *sj = sums + 6 * j;
-        sj[0] -= m0;
-        sj[1] -= m1;
-        sj[2] += a0;
-        sj[3] += a1;
-        sj[4] += a2;
-        sj[5] += a3;
+        store2(sj, load2(sj) - m);
+        store2(sj + 2, load2(sj + 2) + ax);
+        store2(sj + 4, load2(sj + 4) + ay);
         msq += sq;
-        if (eflag_atom) eatom[j] += 0.25 * k_g * sq;
+        if (EATOM) eatom[j] += 0.25 * k_g * sq;
       }
-      if (vflag_either) bond_virial(i, j, bond.paired, k_g * m0, k_g * m1);
+      if (VIRIAL) bond_virial(i, j, bond.paired, k_g * m[0], k_g * m[1]);
     }
     double *si = sums + 6 * i;
-    si[0] += mx;
-    si[1] += my;
-    si[2] += md0;
-    si[3] += md1;
-    si[4] += md2;
-    si[5] += md3;
+    store2(si, load2(si) + m_sum);
+    store2(si + 2, load2(si + 2) + md0x);
+    store2(si + 4, load2(si + 4) + md0y);
     const double e = 0.25 * k_g * msq;
-    if (eflag_atom) eatom[i] += e;
+    if (EATOM) eatom[i] += e;
     energy += e;
   }
   return energy;
@@ -769,8 +847,10 @@ int PairCGMSShaped::bond_forces()
     double *fi = f[i], *fFi = fF[i];
     fi[0] += k_g * si[0];
     fi[1] += k_g * si[1];
+    // f/2 m (x) d0 row-major from its columns (m d0x, m d0y)
+    const double v[4] = {si[2], si[4], si[3], si[5]};
     double dm[4];
-    CGMS::Shaped::bond_target_pullback(F[i], par.iso, si + 2, dm);
+    CGMS::Shaped::bond_target_pullback(F[i], par.iso, v, polar[i], dm);
     for (int k = 0; k < 4; k++) fFi[k] = -(fFi[k] - k_g * dm[k]);
     // & (not &&): six comparisons without a branch each
     const bool finite = (std::fabs(fi[0]) < limit) & (std::fabs(fi[1]) < limit) &
@@ -878,20 +958,25 @@ void PairCGMSShaped::compute(int eflag, int vflag)
     memory->create(target, 4 * nmax_target, "pair:target");
   }
   double **F = atom->darray[iF];
+  const int nlocal = atom->nlocal;
+  polar.resize(nlocal);
   int bad = 0;
-  for (int i = 0; i < nall; i++)
-    if (!CGMS::Shaped::bond_target(F[i], par.iso, target + 4 * i)) bad = 1;
+  for (int i = 0; i < nall; i++) {
+    double G[4];
+    CGMS::Shaped::Polar ghost;    // a local bead's polar part is kept for bond_forces
+    if (!CGMS::Shaped::bond_target(F[i], par.iso, G, i < nlocal ? polar[i] : ghost)) bad = 1;
+    // by columns, (G11, G21) and (G12, G22), as bond_terms reads them
+    double *t = target + 4 * i;
+    t[0] = G[0];
+    t[1] = G[2];
+    t[2] = G[1];
+    t[3] = G[3];
+  }
   const int targets_valid = !bad;
 
   // fF holds the cells' dE/dF until bond_forces makes it -dE/dF
   double **fF = atom->darray[iforce];
-  double energy = 0.0;
-  const int nlocal = atom->nlocal;
-  for (int i = 0; i < nlocal; i++) {
-    const double e = cell_term(i, fF[i], bad);
-    if (eflag_atom) eatom[i] += e;
-    energy += e;
-  }
+  double energy = cell_terms(0, nlocal, bad);
   lj_terms();
   int nonfinite = -1;
   if (targets_valid) {
@@ -935,9 +1020,8 @@ void PairCGMSShaped::refuse_inverted()
 {
   tagint who = 0;
   for (int i = 0; i < atom->nlocal && !who; i++) {
-    double dEdF[4];
     int bad = 0;
-    cell_term(i, dEdF, bad);
+    cell_terms(i, i + 1, bad);    // overwrites cell i's dE/dF: the run stops here
     if (bad) who = atom->tag[i];
   }
   error->one(FLERR,
@@ -1116,10 +1200,11 @@ void *PairCGMSShaped::extract(const char *name, int &dim)
 double PairCGMSShaped::memory_usage()
 {
   const double caches =
-      (double) (sizeof(Wall) / sizeof(double) * walls.capacity() + wall_scratch.capacity() +
+      (double) (sizeof(WallPair) / sizeof(double) * walls.capacity() + 2 * wall_scratch.capacity() +
                 rest_sum.capacity() + fluid_area0.capacity() + bond_sums.capacity()) *
           sizeof(double) +
       (double) bonds.capacity() * sizeof(Bond) +
+      (double) polar.capacity() * sizeof(CGMS::Shaped::Polar) +
       (double) (bond_first.capacity() + pair_first.capacity() + pair_j.capacity()) * sizeof(int);
   return Pair::memory_usage() + 4.0 * (nmax_target + 2.0 * nmax_min) * sizeof(double) + caches;
 }

@@ -31,6 +31,9 @@ namespace LAMMPS_NS {
 // degree of freedom of the line-search minimisers (min_xf_* hooks, as pair eff/cut).
 class PairCGMSShaped : public Pair {
  public:
+  // two doubles per instruction (GCC and Clang vector extensions; SSE2 on x86-64)
+  typedef double v2d __attribute__((vector_size(16)));
+
   PairCGMSShaped(class LAMMPS *);
   ~PairCGMSShaped() override;
 
@@ -65,9 +68,10 @@ class PairCGMSShaped : public Pair {
   // indices of the per-atom custom properties (Atom::find_custom)
   int iF, inb, ibondx, ibondy, iwallx, iwally, iid, inwall, iarea, iboundary, iforce;
   int nb_max, wall_max;     // columns of the neighbour and wall arrays
+  int pair_max;             // wall pairs per bead in walls, (wall_max + 1) / 2
   bool lists_asymmetric;    // init found a bond listed by one bead only
 
-  double *target;    // G(F) of every local and ghost bead (4 per bead)
+  double *target;    // G(F) of every local and ghost bead, by columns (G11 G21 G12 G22)
   int nmax_target;
   double *min_x, *min_f;    // the minimiser's view of F and its force (4 per bead)
   int nmax_min;
@@ -78,26 +82,29 @@ class PairCGMSShaped : public Pair {
   // bond that this bead evaluates (bonds[bond_first[i] .. bond_first[i + 1]]) the closest
   // image j of the neighbour, f/2 d0, and whether j is local and evaluates the bond with
   // bead i as its own closest image (paired: evaluated once, by the lower index, for both)
-  struct Wall {
-    double dxx, dxy, dyy;    // d0 d0^T: l^2 = d0^T (F^T F) d0
-    double delta;            // the contour's smoothing half-width
-    CGMS::Shaped::WallLaw law;
+  // a cell's walls 2p and 2p + 1 are one WallPair, two walls per vector; an odd cell's last
+  // lane repeats its last wall
+  struct WallPair {
+    v2d dxx, dxy, dyy;    // d0 d0^T: l^2 = d0^T (F^T F) d0
+    v2d delta;            // the contour's smoothing half-width
+    CGMS::Shaped::WallLawOf<v2d> law;
   };
   struct Bond {
     int j, paired;
     double hdx, hdy;
   };
-  std::vector<Wall> walls;
+  std::vector<WallPair> walls;
   std::vector<double> rest_sum, fluid_area0;
   std::vector<Bond> bonds;
   std::vector<int> bond_first;
-  // per local bead, summed over its bonds: m and f/2 m (x) d0 (row-major), for its force and
-  // its bonds' dE/dF
+  // per local bead, summed over its bonds: m and f/2 m (x) d0 by columns (f/2 m d0x, then
+  // f/2 m d0y), for its force and its bonds' dE/dF
   std::vector<double> bond_sums;
-  std::vector<int> pair_first, pair_j;    // the LJ pairs: the list without fresh neighbours
-  std::vector<double> wall_scratch;       // per wall of one cell: 1 / l_e, dm/dl_e, dE/dl_e
-  int cache_current;                      // 0 after init_style: rebuild before the next evaluation
-  std::string material_file;              // pair_coeff's arguments, for the restart record
+  std::vector<CGMS::Shaped::Polar> polar;    // per local bead, F's polar part (bond_target)
+  std::vector<int> pair_first, pair_j;       // the LJ pairs: the list without fresh neighbours
+  std::vector<v2d> wall_scratch;             // per wall pair of one cell: 1 / l_e, dm/dl_e, dE/dl_e
+  int cache_current;            // 0 after init_style: rebuild before the next evaluation
+  std::string material_file;    // pair_coeff's arguments, for the restart record
 
   void allocate();
   void add_force_property();
@@ -110,9 +117,10 @@ class PairCGMSShaped : public Pair {
   void fresh_strain_and_bond_length();
   void check_topology();
   void cache_fresh_data();
-  double cell_term(int i, double *dEdF, int &bad);
+  double cell_terms(int from, int to, int &bad);
   void cache_bonds();
   double bond_terms();
+  template <int EATOM, int VIRIAL> double bond_terms_of();
   void bond_virial(int i, int j, int paired, double fx, double fy);
   int bond_forces();
   void lj_terms();

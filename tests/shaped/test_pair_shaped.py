@@ -91,6 +91,21 @@ def test_every_branch_matches_the_oracle(tmp_path):
     compare(tmp_path, z, lev, geo, 0.95, params, extra="reach 2")
 
 
+@pytest.mark.lammps
+@pytest.mark.parametrize("nprocs", [1, pytest.param(2, marks=pytest.mark.mpi)])
+def test_cells_with_an_odd_number_of_walls_match_the_oracle(tmp_path, nprocs):
+    """The pair evaluates a cell's walls two at a time (the last lane of a cell with an odd
+    number of walls repeats its last wall and must not be summed): an irregular tissue whose
+    cells have 5, 7 and 8 walls."""
+    xy, _ = sl.calibration_tissue(sl.BEST)
+    xy = xy + np.random.default_rng(5).uniform(-0.3, 0.3, xy.shape) * sl.L
+    geo = st.build(xy, sl.MAT, sl.BEST)
+    walls = np.bincount(geo["cell"])
+    assert np.any(walls % 2 == 1) and np.any(walls % 2 == 0)
+    z, lev = sl.perturbed_state(xy, geo, 0.6, spread=0.1)
+    compare(tmp_path, z, lev, geo, 0.6, sl.BEST, nprocs, extra="reach 2")
+
+
 def test_the_local_builder_gives_the_prototypes_data():
     """cgms.shaped_data.per_bead of the local build (shaped_tensor.build(local=True), for
     large tissues) against that of the prototype's whole-tissue build, on the calibration
