@@ -20,24 +20,13 @@ import numpy as np
 from cgms import folders, positions
 from cgms.mfc import metrics as mfc_metrics
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from stress import read_state  # noqa: E402  (the state file's reader, one copy)
+
 #: what the measures own in a level record (the rest is the solver's)
 MEASURES = ("cells", "A", "P", "EL", "ELpca", "A/A0", "P/P0", "EL/EL0", "ELpca/ELpca0",
             "cell_area", "cell_perimeter", "cell_roundness", "cell_elongation",
             "cell_compactness", "cell_area/A0", "cell_perimeter/P0")
-
-
-def state_positions(path):
-    """Wall positions (n, 2) in ID order of a ``write_data`` file of atom_style angle."""
-    lines = Path(path).read_text().splitlines()
-    start = lines.index("Atoms # angle") + 2
-    rows = []
-    for line in lines[start:]:
-        if not line.strip():
-            break
-        w = line.split()
-        rows.append((int(w[0]), float(w[3]), float(w[4])))
-    rows.sort()
-    return np.array([r[1:] for r in rows])
 
 
 def remeasure(folder):
@@ -48,7 +37,7 @@ def remeasure(folder):
     fresh = None
     for path in records:
         name = path.name[len("level."):-len(".json")]
-        xy = state_positions(folder / f"state.{name}.data")
+        xy = read_state(folder / f"state.{name}.data")[0]
         summary, cell = mfc_metrics.summary(xy, n_wall, fresh)
         if fresh is None:
             summary, cell = mfc_metrics.summary(xy, n_wall, summary)
