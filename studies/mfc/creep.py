@@ -26,7 +26,7 @@ CHUNK = 2000   # iterations, as mfc_run.relax
 
 
 def measures(xy):
-    m = morphology.measures(xy, morphology.default_max_edge(xy) * 2.0 / 1.5)
+    m = morphology.measures(xy, morphology.default_max_edge(xy, morphology.FINE_EDGE_FACTOR))
     return np.array([m["area"], m["perimeter"], m["elongation"]])
 
 

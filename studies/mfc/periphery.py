@@ -20,7 +20,7 @@ from cgms import morphology
 
 
 def edge(xy):
-    return morphology.default_max_edge(xy) * 2.0 / 1.5
+    return morphology.default_max_edge(xy, morphology.FINE_EDGE_FACTOR)
 
 
 def load(folder, s, n_wall):

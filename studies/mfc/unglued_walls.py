@@ -24,7 +24,7 @@ from cgms import morphology, run
 
 
 def edge(xy):
-    return morphology.default_max_edge(xy) * 2.0 / 1.5
+    return morphology.default_max_edge(xy, morphology.FINE_EDGE_FACTOR)
 
 
 def retype_unglued(lines):
