@@ -29,7 +29,7 @@ import math
 import numpy as np
 import scipy.sparse as sp
 
-from . import model, shaped, shaped_mean, superpose
+from . import model, shaped, shaped_glue, shaped_mean, superpose
 from . import shaped_target as target
 
 #: parameters beyond cgms.shaped.DEFAULTS: kg_ratio, the lamella's compatibility stiffness
@@ -54,9 +54,14 @@ from . import shaped_target as target
 #: modulus mu(s) (N/m): a number, or [[s, mu], ...] interpolated as ln mu linear in s and
 #: held beyond the ends (:func:`net_shear_modulus`); ``shear_smooth``: the weight of the
 #: differences of T between bonded cells (0: each cell's shear free of its neighbours')
+#: ``glue``: the shared walls' agreement, k_w / 2 sum |F_i d_e + F_k d_e'|^2 over every wall
+#: two cells share (e in cell i, e' the same wall in cell k, d_e' = -d_e fresh), with k_w
+#: = ``glue`` k_g (0: off). The middle lamella glues the two cells along the wall, so both
+#: see one wall: the jump F_k - F_i may only stretch across it (Hadamard's compatibility),
+#: and a cell's flattening passes to its neighbours through their shared walls
 DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
                 smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim", dev_mean=0.0,
-                dev_hops=2, net_shear=None, shear_smooth=0.0)
+                dev_hops=2, net_shear=None, shear_smooth=0.0, glue=0.0)
 
 
 def _cof(F):
@@ -135,6 +140,13 @@ def build(xy0, mat, params=None, spacing=None, local=False):
         geo["dev_weights"] = shaped_mean.bond_weights(geo["n"], bonds, p["dev_hops"])
     if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
+    geo["glue"] = float(p["glue"])
+    if not geo["glue"] >= 0:
+        raise ValueError(f"glue must be >= 0, not {p['glue']!r}")
+    if geo["glue"]:
+        if local:
+            raise ValueError("glue needs the dense build (the local one keeps no wall pairs)")
+        geo["W"] = shaped_glue.shared_walls(geo)
     return geo
 
 
@@ -435,13 +447,17 @@ def energy(z, lev, gradient=True):
     if T is not None:
         E_T, g_T, _ = _shear_energy(T, lev)
         E += E_T
+    glue = shaped_glue.energy(z, lev)
+    if glue is not None:
+        E += glue[0]
     if not gradient:
         return E
     f1 = -H * shaped.tait_pressure(A, lev["A_f"], lev["P_T"], K)      # dE/dA
     _, gA = fluid_area(F, c, chord, lev, order=1)
     gl, _ = _chord_derivatives(c, chord, lev)
     gF = f1[:, None] * gA + _per_cell(de_w[:, None] * gl, lev)
-    return E, join(g_lj, gF, None if T is None else g_T) + g_c
+    g = join(g_lj, gF, None if T is None else g_T) + g_c
+    return E, g if glue is None else g + glue[1]
 
 
 def hessian(z, lev):
@@ -476,6 +492,9 @@ def hessian(z, lev):
                                  (np.concatenate([6 * n + 2 * H1.row, 6 * n + 2 * H1.row + 1]),
                                   np.concatenate([6 * n + 2 * H1.col, 6 * n + 2 * H1.col + 1]))),
                                 shape=(N, N))
+    glue = shaped_glue.energy(z, lev)
+    if glue is not None:
+        Hm = Hm + glue[2]
     return sp.csr_matrix(Hm)
 
 

@@ -124,14 +124,17 @@ def wall_params(mat, params):
     return p
 
 
-def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped, ens=None, save=None):
+def run(name, params, levels=LEVELS, ftol=1e-9, model=shaped, ens=None, save=None,
+        solver=None):
     """Rows of one tissue along the ramp: one dict per level. ``save``: a folder to write
-    the states to (``<tissue>.npz``: levels and one state vector per level)."""
+    the states to (``<tissue>.npz``: levels and one state vector per level); ``solver``
+    (tensor model only): the steady-state solver, default its dense ``relax``."""
     mat, xy = layout(name)
     t0 = time.time()
     p = wall_params(mat, params)
     kick = p.pop("kick", 0.0 if model is shaped else 1e-3)
-    geo, states = model.ramp(xy, mat, levels, p, ftol=ftol, kick=kick)
+    extra = dict(solver=solver) if solver else {}
+    geo, states = model.ramp(xy, mat, levels, p, ftol=ftol, kick=kick, **extra)
     seconds = time.time() - t0
     n = geo["n"]
     if save:
@@ -267,10 +270,17 @@ def main(argv=None):
     ap.add_argument("--csv", default=None)
     ap.add_argument("--save", default=None, help="folder for each tissue's states "
                     "(<tissue>.npz), e.g. for studies/shaped/rim.py --states")
+    ap.add_argument("--solver", default="relax", choices=("relax", "newton"),
+                    help="tensor model: dense trust region (relax) or sparse Newton "
+                    "(cgms.shaped_newton; faster, may land on another of the nearby minima)")
     ap.add_argument("--ensemble", default=None, help="folder of the calibration tissue's MFC "
                     "ensemble (measures.csv, centroids.s<s>.txt) to judge against its spread")
     args = ap.parse_args(argv)
     model = MODELS[args.model]
+    solver = None
+    if args.solver == "newton":
+        from cgms import shaped_newton
+        solver = shaped_newton.newton
     params = given_params(model, args.params)
     levels = tuple(float(v) for v in args.levels.split(","))
     t0 = time.time()
@@ -282,7 +292,8 @@ def main(argv=None):
               flush=True)
     rows = []
     for name in args.tissues.split(","):
-        rows += run(name, params, levels, model=model, ens=args.ensemble, save=args.save)
+        rows += run(name, params, levels, model=model, ens=args.ensemble, save=args.save,
+                    solver=solver)
         print(f"{name}: {rows[-1]['seconds']:.1f} s", file=sys.stderr, flush=True)
     print_rows(rows)
     for lv in ((0.8,), (0.6,), (0.4,), (0.3,)):

@@ -426,3 +426,60 @@ def test_network_shear_off_leaves_the_state_and_the_committed_model():
     tension = geo["wall_EA"] * geo["eps"]
     assert len(st.fresh_state(geo)) == 8 * geo["n"]
     assert max(fx, fF) <= 64 * 24 * EPS * tension
+
+
+@pytest.mark.parametrize("iso, shear", [(1.0, False), (0.0, False), (1.0, True)])
+def test_shared_walls_derivatives(iso, shear):
+    """The shared walls' agreement (``glue``, cgms.shaped_glue) in the gradient and the
+    Hessian against differences, alone and beside the network's shear."""
+    if shear:
+        z, lev = sheared_state(iso, smooth=0.0)
+        geo = st.build(tissue.rectangle(0.75e-3, 0.75e-3, L), MAT,
+                       dict(soft=0.05, beta_a=1.1, beta_b=0.05, kg_ratio=0.3, iso=iso,
+                            net_shear=SHEAR_TABLE, glue=2.0))
+        lev = st.at_level(geo, lev["s"])
+    else:
+        z, lev = dried_state(params=dict(iso=iso, glue=2.0))
+    assert st.shaped_glue.energy(z, lev)[0] > 0
+    assert_derivatives(z, lev)
+
+
+def test_shared_walls_pair_every_inner_wall_once():
+    """Every wall between two cells is paired once with its twin in the other cell (the
+    twin's fresh vector is the opposite one), free walls stay out; a uniform deformation of
+    every cell, any F, costs nothing; a jump across one wall only (F_k = F_i + a n^T, n the
+    wall's normal) costs nothing, a jump along it does; off is no term at all."""
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, L)
+    geo = st.build(xy, MAT, dict(glue=1.0))
+    W = geo["W"]
+    bonds = len(geo["bonds"])
+    assert W.shape[0] == 2 * bonds    # one shared wall per fresh bond
+    d0 = geo["d0"]
+    z = st.fresh_state(geo)
+    assert np.abs(W @ z).max() <= 64 * EPS * np.abs(d0).max()
+    n = geo["n"]
+    x, _ = st.split(z, n)
+    G = np.array([[0.7, 0.2], [-0.1, 0.5]])
+    zg = st.join(x, np.broadcast_to(G, (n, 2, 2)))
+    assert np.abs(W @ zg).max() <= 64 * EPS * np.abs(d0).max()
+    # cell i's wall facing bead k: a jump a n^T across it leaves that wall's row at zero
+    i, k = geo["bonds"][0]
+    e = np.flatnonzero(geo["cell"] == i)
+    ring = geo["topo"]["rings"][i]
+    e = e[[j for j, p in enumerate(ring) if not p["ghost"] and p["terms"][0][0] == k][0]]
+    t = d0[e] / np.linalg.norm(d0[e])
+    nrm = np.array([-t[1], t[0]])
+    cols = lambda c: set(range(2 * n + 4 * c, 2 * n + 4 * c + 4))  # noqa: E731
+    r = [r for r in range(0, W.shape[0], 2)
+         if cols(i) & set(W[r].indices) and cols(k) & set(W[r].indices)]
+    assert len(r) == 1                # the one wall cells i and k share
+    F = np.broadcast_to(np.eye(2), (n, 2, 2)).copy()
+    F[k] += np.outer([0.3, -0.2], nrm)
+    assert np.linalg.norm((W @ st.join(x, F))[r[0]:r[0] + 2]) <= 64 * EPS * np.abs(d0).max()
+    F[k] = np.eye(2) + np.outer([0.3, -0.2], t)
+    assert np.linalg.norm((W @ st.join(x, F))[r[0]:r[0] + 2]) == pytest.approx(
+        np.linalg.norm([0.3, -0.2]) * np.linalg.norm(d0[e]), rel=1e-12)
+    lev = st.at_level(st.build(xy, MAT, {}), 0.6)
+    assert st.shaped_glue.energy(z, lev) is None
+    with pytest.raises(ValueError, match="glue"):
+        st.build(xy, MAT, dict(glue=-1.0))

@@ -1,0 +1,75 @@
+# CGMS: coarse-grained multiscale model of plant-tissue drying (LAMMPS plugin)
+# This software is distributed under the GNU General Public License version 2;
+# see the LICENSE file in the top-level directory.
+"""Which way a flattened cell of the tensor variant (cgms.shaped_tensor) prefers to point:
+from a steady state that ``table.py --model tensor --save`` wrote, one interior cell's
+stretch axes are turned by phi (F_i = Q V Q^T R, the rest of the state held) and the
+tissue's energy is evaluated. A cell whose energy depended only on its area and its
+stretches would give a flat line; the hexagon's walls give cos(6 phi), which is what picks
+a lattice axis for every cell at once when nothing else does (doc/results/
+shaped-results.md, "2026-12-03 (fifth session)"). Seconds.
+
+    python3 studies/shaped/anisotropy.py FOLDER TISSUE 'JSON of the run' [--levels 0.6,0.4]
+"""
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "python"))
+sys.path.insert(0, str(ROOT / "studies" / "shaped"))
+import table  # noqa: E402
+from cgms import shaped_tensor as st  # noqa: E402
+
+
+def turned(F, phi):
+    """F = V R with its stretch axes turned by phi: (Q V Q^T) R."""
+    U, S, Vt = np.linalg.svd(F)
+    c, s = np.cos(phi), np.sin(phi)
+    QU = np.array([[c, -s], [s, c]]) @ U
+    return QU @ np.diag(S) @ QU.T @ (U @ Vt)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("folder")
+    ap.add_argument("tissue")
+    ap.add_argument("params", help="the JSON the states were made with (table.py --params)")
+    ap.add_argument("--levels", default="0.6,0.4")
+    args = ap.parse_args(argv)
+    mat, xy = table.layout(args.tissue)
+    p = table.wall_params(mat, table.given_params(st, args.params))
+    p.pop("kick", None)
+    geo = st.build(xy, mat, p)
+    n = geo["n"]
+    saved = np.load(Path(args.folder) / f"{args.tissue}.npz")
+    inner = np.flatnonzero(~geo["boundary"])
+    i = inner[len(inner) // 2]
+    print("| s | cell | stretches / sqrt(s) | dE(phi) for phi = 0, 15, ..., 90 deg (J) "
+          "| amplitude / (P_T A H) |")
+    print("|---|---|---|---|---|")
+    for s, z in zip(saved["levels"], saved["states"]):
+        if f"{s:g}" not in args.levels.split(","):
+            continue
+        lev = st.at_level(geo, s)
+        x, F = st.split(z, n)
+        E0 = st.energy(z, lev, gradient=False)
+        dE = []
+        for phi in np.radians(np.arange(0, 91, 15)):
+            G = F.copy()
+            G[i] = turned(F[i], phi)
+            dE.append(st.energy(st.join(x, G), lev, gradient=False) - E0)
+        scale = lev["P_T"] * lev["A_f"][i] * mat["height"]
+        stretch = np.linalg.svd(F[i], compute_uv=False) / np.sqrt(s)
+        print(f"| {s:g} | {i} | {stretch[0]:.3f}, {stretch[1]:.3f} | "
+              + ", ".join(f"{v:.2e}" for v in dE)
+              + f" | {(max(dE) - min(dE)) / scale:.1e} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
