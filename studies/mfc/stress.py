@@ -4,8 +4,9 @@
 """Where an MFC tissue's internal stress sits, and which way its cells flatten
 (doc/results/shaped-results.md, "What elongates the fine model's long tissues").
 
-Per level of a study folder (``cgms mfc --out``; its ``state.s<s>.data``, written at full
-precision, ``lamella.txt`` and ``setup.json``):
+Per dried level of a study folder (``cgms mfc --out``; every ``state.s<s>.data`` it holds,
+written at full precision, so a study run with ``--dryness 0.8,0.75,0.7,...`` is measured
+stage by stage; ``lamella.txt`` and ``setup.json``):
 
 - the mean stress (N/m, tension positive) of the interior cells and of the rim cells (the
   cells on the fresh centroids' outline). Only the middle lamella (8-4 LJ between walls
@@ -37,7 +38,6 @@ from scipy.spatial import Delaunay, cKDTree
 from cgms import morphology
 from cgms.mfc import model as mfc_model
 
-LEVELS = (0.8, 0.6, 0.4, 0.3)
 
 
 def _section(lines, name):
@@ -154,11 +154,10 @@ def study(folder):
     edges = edges[(np.linalg.norm(c0[edges[:, 1]] - c0[edges[:, 0]], axis=1) < 1.5 * spacing)
                   & ~rim[edges[:, 0]] & ~rim[edges[:, 1]]]
     rest = {int(t): r for t, r in np.loadtxt(folder / "lamella.txt", comments="#")}
-    rows = []
-    for s in LEVELS:
-        if (folder / f"state.s{s:g}.data").exists():
-            rows.append(level(folder, s, p, n_wall, rim, rest, c0, edges))
-    return rows
+    # every dried level the study wrote (a stage-by-stage study has more than the five)
+    levels = sorted((float(f.name[len("state.s"):-len(".data")])
+                     for f in folder.glob("state.s*.data")), reverse=True)
+    return [level(folder, s, p, n_wall, rim, rest, c0, edges) for s in levels if s < 1]
 
 
 def main(argv=None):

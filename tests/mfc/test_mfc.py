@@ -674,6 +674,30 @@ def test_ramp_seeds_each_dried_levels_kick(monkeypatch):
     assert commands == []
 
 
+def test_ramp_relaxes_its_stages_to_steady_state_when_asked(monkeypatch):
+    """By default an intermediate level of the ramp gets one chunk of minimisation at a
+    looser force test and no Newton; with ``steady_stages`` every level gets the options
+    of the asked level (a quasi-static path), with the same kicks."""
+    calls = []
+    monkeypatch.setattr(mfc_run, "relax",
+                        lambda lmp, p, s, **options: calls.append((s, options))
+                        or dict(iterations=1))
+
+    class Quiet:
+        def command(self, line):
+            pass
+
+    asked = dict(ftol=1e-10, newton=1e-6, max_iterations=20000, chunk=2000)
+    mfc_run.ramp(Quiet(), P, 1.0, 0.85, **asked)
+    assert [s for s, _ in calls] == pytest.approx([0.95, 0.9, 0.85])
+    assert [o for _, o in calls[:2]] == [dict(asked, max_iterations=2000, ftol=1e3 * 1e-10,
+                                              newton=None)] * 2
+    assert calls[2][1] == asked
+    calls.clear()
+    mfc_run.ramp(Quiet(), P, 1.0, 0.85, steady_stages=True, **asked)
+    assert [o for _, o in calls] == [asked] * 3
+
+
 # --------------------------------------------------------------------------- the command
 
 @pytest.mark.lammps
@@ -708,6 +732,11 @@ def test_cgms_mfc_tiny_study(tmp_path):
     seeded = subprocess.run(cmd + ["--resume", "--seed", "2"], env=env, capture_output=True,
                             text=True, timeout=300)
     assert seeded.returncode == 1 and "seed: None there, 2 now" in seeded.stderr, seeded.stderr
+    # so is another drying path: a quasi-static study never resumes a chunked one
+    steady = subprocess.run(cmd + ["--resume", "--stages", "steady"], env=env,
+                            capture_output=True, text=True, timeout=300)
+    assert steady.returncode == 1 and "steady_stages: None there, True now" in steady.stderr, \
+        steady.stderr
     for bad_seed in ("0", "-3", str(mfc_run.MAX_SEED + 1), "two"):
         refused = subprocess.run(cmd + ["--resume", "--seed", bad_seed], env=env,
                                  capture_output=True, text=True, timeout=300)

@@ -49,6 +49,12 @@ def arguments(q):
                         "chunk of 2000 iterations (default %(default)g)")
     q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
                    help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
+    q.add_argument("--stages", choices=("chunk", "steady"), default="chunk",
+                   help="the ramp's levels between the asked ones: chunk (one chunk of "
+                        "minimisation each, the path of the committed references; default) or "
+                        "steady (each relaxed to its steady state: a quasi-static drying path, "
+                        "about twice the cost, on which the long tissues widen instead of "
+                        "elongating: doc/mfc.md)")
     q.add_argument("--newton", type=float, default=mfc_run.DEFAULTS["newton"],
                    help="Newton's method finishes a level once the minimiser's largest force is "
                         "below this, N (default %(default)g; 0: the minimiser alone, with the "
@@ -136,6 +142,7 @@ def run(out, names, centres, p, levels, args):
               f"{len(centres[name]) * p['n_wall']} wall particles", flush=True)
         results = mfc_study.dry(centres[name], p, folder, levels, ftol=args.ftol,
                                 shift=args.shift, stage=args.stage,
+                                steady_stages=args.stages == "steady",
                                 max_iterations=args.max_iterations, seed=args.seed,
                                 newton=args.newton if args.newton > 0 else None,
                                 say=lambda line: print(line, flush=True))

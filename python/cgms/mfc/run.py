@@ -270,15 +270,17 @@ def stages(s_from, s_to, stage):
 
 
 def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
-         seed=DEFAULTS["seed"], **kwargs):
+         seed=DEFAULTS["seed"], steady_stages=False, **kwargs):
     """From the steady state at ``s_from`` (None: the built tissue) to that at ``s_to``
     through the intermediate levels (one chunk of minimisation each). Before each
     dried level every wall particle is displaced at random by up to ``kick`` (m): a
     contracted wall held at its circle is a saddle (it must buckle: MFC.md 5.3), which a
     minimiser started exactly on it never leaves; the kicks of level ``s`` are seeded with
     ``seed + round(1e4 s)``, so a study is reproducible and ``seed`` alone picks which of
-    the dried levels' neighbouring minima it lands on. Returns the final :func:`relax` report
-    with the total iterations."""
+    the dried levels' neighbouring minima it lands on. ``steady_stages`` relaxes every
+    intermediate level to its steady state too (a quasi-static path, about twice the cost;
+    the long tissues reach another dried shape on it: doc/mfc.md, "How well the dried levels
+    are determined"). Returns the final :func:`relax` report with the total iterations."""
     total = 0
     levels = stages(s_from, s_to, stage) + [s_to]
     for k, s in enumerate(levels):
@@ -288,7 +290,7 @@ def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
         last = k == len(levels) - 1
         # an intermediate level is one chunk (or less, at 1e3 ftol): a gentle path, not a
         # steady state (relaxing each to its steady state doubles the 86-cell cost)
-        options = dict(kwargs) if last else dict(
+        options = dict(kwargs) if last or steady_stages else dict(
             kwargs, max_iterations=kwargs.get("chunk", DEFAULTS["chunk"]),
             ftol=1e3 * kwargs.get("ftol", DEFAULTS["ftol"]), newton=None)
         report = relax(lmp, p, s, **options)

@@ -72,13 +72,15 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     drying ramp of :func:`cgms.mfc.run.ramp`. Returns the per-level summaries.
     ``out/setup.json`` records the centres, the parameters and the solver options,
     the ramp's kick ``seed`` among them; a folder with another record is refused
-    (FolderError), so a resume never mixes them. The default seed is left out of the
-    record: folders made before it was an option used it and resume as they are."""
+    (FolderError), so a resume never mixes them. The default seed and the default path
+    (``steady_stages`` off) are left out of the record: folders made before they were
+    options used them and resume as they are."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     centres_sha256 = hashlib.sha256(np.ascontiguousarray(centres, float).tobytes()).hexdigest()
     recorded = {k: solver[k] for k in sorted(solver)
-                if not (k == "seed" and solver[k] == mfc_run.DEFAULTS["seed"])}
+                if not (k == "seed" and solver[k] == mfc_run.DEFAULTS["seed"])
+                and not (k == "steady_stages" and not solver[k])}
     folders.same_setup(out / "setup.json", dict(centres_sha256=centres_sha256, parameters=p,
                                                 **recorded))
     levels = sorted({1.0, *map(float, levels)}, reverse=True)
