@@ -8,8 +8,8 @@ The styles: ``bond harmonic`` (wall edges and lamella), ``angle zero`` (the tria
 ``fix mfc/pressure3d`` reads), ``dihedral harmonic`` (bending), and ``pair hybrid`` of two
 ``nm/cut``: the lamella's LJ between walls of different cells (different colours, atom
 types), every pair counted (a lamella bond does not hide the LJ of its pair, as in 2-D),
-and the wall's self-avoidance within one cell (one colour), sparing pairs one or two bonds
-apart (:data:`cgms.mfc.tissue3d.SELF_SPECIAL`). Every force has an energy, so steady
+and the wall's self-avoidance within one cell (one colour), sparing bonded pairs
+(:data:`cgms.mfc.tissue3d.SELF_SPECIAL`). Every force has an energy, so steady
 states are minima.
 """
 
@@ -48,11 +48,13 @@ def pair_commands(w):
     walls of different colours, the self-avoidance within a colour (a cell), each with its
     own weights of bonded pairs (``pair_modify special``). LAMMPS lets a sub-style set
     those only where the global ``special_bonds`` weight is neither 0 nor 1 (which change
-    the neighbour list), so 1-2 and 1-3 carry a placeholder 0.5 that both sub-styles
-    replace; 1-4 stays 1 (no 1-4 lists: the glued walls would make them large)."""
+    the neighbour list), so where the two differ the global weight is a placeholder, 0.5,
+    that both replace; elsewhere it is 1 (LAMMPS then keeps no 1-3 and 1-4 lists, which
+    the glued walls would make large)."""
     rc, r0 = w["lamella_rc"], w["self_r0"]
     spared = " ".join(f"{v:g}" for v in tissue3d.SELF_SPECIAL)
-    lines = ["special_bonds lj 0.5 0.5 1.0 coul 1.0 1.0 1.0",
+    placeholder = " ".join("1.0" if v == 1.0 else "0.5" for v in tissue3d.SELF_SPECIAL)
+    lines = [f"special_bonds lj {placeholder} coul 1.0 1.0 1.0",
              f"pair_style hybrid nm/cut {rc:.10g} nm/cut {r0:.10g}", "pair_modify shift yes",
              f"pair_coeff * * nm/cut 1 {w['lamella_E0']:.10g} {w['pectin']:.10g} 8 4 "
              f"{rc:.10g}"]

@@ -59,18 +59,19 @@ TISSUE3D = dict(subdivision=5, reach=1.05, rest="polyhedron")
 REST_BIN = 1e-8
 #: the wall's self-avoidance (doc/mfc.md, "3-D tissue", "Self-avoidance"): the weights of
 #: its pairs 1, 2 and 3 bonds apart (``pair_modify special lj``). Decision: its radius is
-#: d_p, and pairs one or two bonds apart are spared. A particle repulsion stops a wall
-#: passing through itself only if its radius exceeds the distance from the corners of one
-#: triangle to the other's when they cross: hypot(l1, l2) / 2 for two edges crossing at
-#: their middles, at most l_max / sqrt(2) = 7.6 um here (l_max = 10.8 um, built; it
-#: shortens as the wall dries), so r0 = d_p = 8 um (the gap the lamella keeps between two
-#: walls, here between the two layers of a fold). That is above the shortest bond (7.6 um
-#: built, 5.5 um measured in a dried fold), so the pair must spare bonded pairs and, for
-#: the square faces' unbonded diagonals (10.8 um built), pairs sharing a bonded
-#: neighbour; pairs three bonds apart are 17.0 um apart in the built wall, 13.6 um at the
-#: s = 0.3 rest lengths. E0: the 2-D wall's (SELF_E0_FOLDS) scaled by area per node as
-#: the lamella's.
-SELF_SPECIAL = (0.0, 0.0, 1.0)
+#: d_p, and bonded pairs are spared. A particle repulsion stops a wall passing through
+#: itself only if its radius exceeds the distance from the corners of one triangle to the
+#: other's as they cross: hypot(l1, l2) / 2 for two edges crossing at their middles, at
+#: most l_max / sqrt(2) = 7.6 um here (l_max = 10.8 um built, less as the wall dries), so
+#: r0 = d_p = 8 um (the gap the lamella keeps between two walls, here between the layers
+#: of a fold). That is above the shortest bond (7.6 um built, 5.5 um measured in a dried
+#: fold), so bonded pairs are spared; the closest unbonded pair of the flat wall (a square
+#: face's unbonded diagonal) is 10.8 um built, 8.6 um at the s = 0.3 rest lengths, so a
+#: wall not folded or crushed is not touched. Pairs two bonds apart are not spared: they
+#: are the far corners of a hinge, and spared, a hinge folds flat and through (a free cell
+#: dried to s = 0.3 in one step crossed itself so, tests/mfc/test_mfc3d_crossing.py).
+#: E0: the 2-D wall's (SELF_E0_FOLDS) scaled by area per node as the lamella's.
+SELF_SPECIAL = (0.0, 1.0, 1.0)
 #: atom types of the cell colours (:func:`colours`)
 COLOURS = 4
 
