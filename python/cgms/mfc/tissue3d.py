@@ -30,8 +30,8 @@ Decisions (the 2-D tissue's, carried to 3-D; doc/mfc.md says why):
   (``spacing x H``); the lamella bonds, set at rest in the relaxed fresh tissue, with the
   LJ's stiffness at d_p (32 E0 / d_p^2, as 2-D);
 * within a cell's wall, the self-avoidance: the 2-D one's repulsive 8-4 LJ (E0 scaled as
-  the lamella's), of radius r0 = d_p, between particles neither bonded nor sharing a bonded
-  neighbour (:data:`SELF_SPECIAL`). A pair style cannot tell a cell's own pairs from a
+  the lamella's), of radius r0 = d_p, between particles not bonded to each other
+  (:data:`SELF_SPECIAL`). A pair style cannot tell a cell's own pairs from a
   neighbour's, so the cells are coloured (:func:`colours`, atom types 1-4, no two
   neighbours alike) and a type's own pair is the self-avoidance (same-coloured cells are
   never neighbours).
@@ -68,7 +68,7 @@ REST_BIN = 1e-8
 #: fold), so bonded pairs are spared; the closest unbonded pair of the flat wall (a square
 #: face's unbonded diagonal) is 10.8 um built, 8.6 um at the s = 0.3 rest lengths, so a
 #: wall not folded or crushed is not touched. Pairs two bonds apart are not spared: they
-#: are the far corners of a hinge, and spared, a hinge folds flat and through (a free cell
+#: include the far corners of a hinge, and spared, a hinge folds flat and through (a free cell
 #: dried to s = 0.3 in one step crossed itself so, tests/mfc/test_mfc3d_crossing.py).
 #: E0: the 2-D wall's (SELF_E0_FOLDS) scaled by area per node as the lamella's.
 SELF_SPECIAL = (0.0, 1.0, 1.0)
