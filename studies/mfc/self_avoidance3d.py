@@ -31,7 +31,8 @@ def main(argv):
         return w
     tissue3d.wall = changed
     try:
-        study3d.dry(out, mfc_model.parameters("apple"), 2, say=lambda m: print(m[:300], flush=True))
+        study3d.dry(out, mfc_model.parameters("apple"), 2,
+                    say=lambda m: print(m[:300], flush=True))
     except study3d.WallCrossing as err:
         print(f"stopped: {err}", flush=True)
 

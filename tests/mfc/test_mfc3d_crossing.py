@@ -144,9 +144,9 @@ def dried_in_one_step(folder, self_E0=None):
 @pytest.mark.lammps
 def test_self_avoidance_keeps_a_folding_wall_from_passing_through_itself(tmp_path):
     """Without the self-avoidance the cell's folds pass through each other (measured: 70
-    intersecting triangle pairs); with it (radius d_p, bonded pairs spared) no two triangles intersect and no
-    two unbonded particles are closer than where the repulsion, at its radius d_p, held
-    them off against the fold: within the radius, not through it (above half of it). The
+    intersecting triangle pairs); with it (radius d_p, bonded pairs spared) no two triangles
+    intersect, and the closest unbonded pair lies inside the radius (the repulsion is what
+    holds the fold) but above half of it (it held; measured 7.87 um). The
     study's wall at s = 0.3 rest lengths is not touched where flat: its closest unbonded
     pair (a square face's diagonal) lies beyond d_p."""
     x, w = dried_in_one_step(tmp_path, self_E0=0.0)
