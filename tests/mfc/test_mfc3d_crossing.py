@@ -9,7 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from cgms.mfc import crossing3d, model as mfc_model, study3d, tissue3d
+from cgmstest import working_directory
+
+from cgms.mfc import crossing3d, model as mfc_model, run3d, study3d, tissue3d
 
 P = mfc_model.parameters()
 
@@ -116,3 +118,69 @@ def test_study_stops_at_walls_through_each_other(tmp_path):
     with pytest.raises(SystemExit, match=r"^cgms mfc3d: --stage must be in \(0, 0.5\], got 0$"):
         study3d.main([str(tmp_path / "stage"), "--stage", "0"])
     assert not (tmp_path / "stage").exists()
+
+
+def dried_in_one_step(folder, self_E0=None):
+    """One free cell of the study's wall (n = 5, 902 particles) kicked and minimised at
+    s = 0.3 straight from its built state: the fluid's rest volume drops to 0.3 at once and
+    the wall, pulled in, folds deeply. ``self_E0`` replaces the self-avoidance's strength
+    (0: none). Returns the positions and the wall."""
+    x, cell, w = tissue3d.write_data(folder / "cell.data", [(0.0, 0.0, 0.0)], P,
+                                     overwrite=True)
+    if self_E0 is not None:
+        w["self_E0"] = self_E0
+    with working_directory(folder):
+        lmp = study3d.open_lammps("cell.data", w)
+        try:
+            run3d.kick(lmp, 1e-7, 3)
+            r = run3d.relax(lmp, P, w, 0.3, max_iterations=4000)
+            x = run3d.positions(lmp)
+        finally:
+            lmp.close()
+    assert r["converged"]
+    return x, w
+
+
+@pytest.mark.lammps
+def test_self_avoidance_keeps_a_folding_wall_from_passing_through_itself(tmp_path):
+    """Without the self-avoidance the cell's folds pass through each other (measured: 70
+    intersecting triangle pairs); with it (radius d_p, bonded pairs spared) no two triangles
+    intersect, and the closest unbonded pair lies inside the radius (the repulsion is what
+    holds the fold) but above half of it (it held; measured 7.87 um). The
+    study's wall at s = 0.3 rest lengths is not touched where flat: its closest unbonded
+    pair (a square face's diagonal) lies beyond d_p."""
+    x, w = dried_in_one_step(tmp_path, self_E0=0.0)
+    assert len(crossing3d.tissue_crossings(x, w["tri"], len(w["x"]))["self"]) > 0
+    x, w = dried_in_one_step(tmp_path)
+    assert crossing3d.tissue_crossings(x, w["tri"], len(w["x"])) == dict(self=[], between=[],
+                                                                         cells=[])
+    d = np.linalg.norm(x[:, None] - x[None], axis=2)
+    d[w["edges"][:, 0], w["edges"][:, 1]] = d[w["edges"][:, 1], w["edges"][:, 0]] = np.inf
+    np.fill_diagonal(d, np.inf)
+    assert 0.5 * w["self_r0"] < d.min() < w["self_r0"]
+    e = w["edges"]
+    flat = w["x"] * (1 - w["stretch"]) * mfc_model.level(P, 0.3)["contraction"]
+    far = np.linalg.norm(flat[:, None] - flat[None], axis=2)
+    far[e[:, 0], e[:, 1]] = far[e[:, 1], e[:, 0]] = np.inf
+    np.fill_diagonal(far, np.inf)
+    assert far.min() > w["self_r0"]
+
+
+def test_cells_are_coloured_so_no_two_glued_walls_share_a_colour(tmp_path):
+    """The self-avoidance acts within one atom type: every lamella pair of the 16- and
+    54-cell blocks joins two colours; lamella bonds between cells of one colour are
+    refused, naming them."""
+    for cubes in (2, 3):
+        centres = tissue3d.block(P, cubes)
+        x, cell, w = tissue3d.walls(centres, P, 2)
+        colour = tissue3d.colours(centres, P)
+        assert set(colour) == {0, 1, 2, 3}
+        pairs = tissue3d.lamella_pairs(x, cell, w, P)
+        assert len(pairs) and np.all(colour[cell[pairs[:, 0]]] != colour[cell[pairs[:, 1]]])
+    centres = tissue3d.block(P, 2)
+    same = np.nonzero(tissue3d.colours(centres, P) == tissue3d.colours(centres, P)[0])[0][1]
+    m = 36 * 2 * 2 + 2
+    with pytest.raises(ValueError, match=f"cells 1 and {same + 1} are glued but have one "
+                                         "colour"):
+        tissue3d.write_data(tmp_path / "bad.data", centres, P, n=2,
+                            lamella=(np.array([[0, same * m]]), [3], [8e-6]))

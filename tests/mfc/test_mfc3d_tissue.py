@@ -184,11 +184,9 @@ def pair_script(w, nprocs=1, newton="on", steps=200, restart=None, read=None,
     lines = [f"plugin load {PLUGIN}"]
     if read:
         lines += ["units si", "dimension 3", f"newton {newton}", "atom_modify map array",
-                  f"read_restart {read}", "special_bonds lj/coul 1.0 1.0 1.0",
-                  "angle_coeff *", "pair_style nm/cut {:.10g}".format(w["lamella_rc"]),
-                  "pair_modify shift yes"]
-        lines += [s for s in setup if s.split()[0] in ("pair_coeff", "neigh_modify",
-                                                     "neighbor", "comm_modify")]
+                  f"read_restart {read}", "angle_coeff *", *run3d.pair_commands(w)]
+        lines += [s for s in setup if s.split()[0] in ("neigh_modify", "neighbor",
+                                                     "comm_modify")]
         lines += [s for s in run3d.level_commands(P, w, 0.8) if s.startswith("fix")]
     else:
         lines += setup + run3d.level_commands(P, w, 0.8)

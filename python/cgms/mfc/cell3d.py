@@ -169,8 +169,8 @@ def write_data(path, centres, p, level=WALL3D["level"], margin=None, overwrite=F
 def commands(data, w, p, fix_id="cell", processors=None, bending=True, newton="on"):
     """LAMMPS commands of the 3-D cells of ``data``: styles, the fluid's fix (fresh turgor
     and fluid volume of ``w``) with its energy, and a communication cutoff that reaches a
-    dihedral's far corner on another rank. No pair style: the cells do not touch yet
-    (self-avoidance and the lamella are not built in 3-D)."""
+    dihedral's far corner on another rank. No pair style: these free cells do not touch
+    (the tissue's lamella and self-avoidance: :func:`cgms.mfc.run3d.pair_commands`)."""
     skin = float(np.max(w["rest"]))
     lines = ["units si", "dimension 3", "boundary f f f", f"newton {newton}",
              "atom_style molecular", "atom_modify map array"]

@@ -5,10 +5,12 @@
 the drying levers of a level, minimisation to rest, and the measures of cells and tissue.
 
 The styles: ``bond harmonic`` (wall edges and lamella), ``angle zero`` (the triangles
-``fix mfc/pressure3d`` reads), ``dihedral harmonic`` (bending), ``pair nm/cut`` between
-walls of different cells only (``neigh_modify exclude molecule/intra``: a wall does not
-avoid itself here), all with ``special_bonds lj/coul 1 1 1`` (a lamella bond does not hide
-the LJ of its pair, as in 2-D). Every force has an energy, so steady states are minima.
+``fix mfc/pressure3d`` reads), ``dihedral harmonic`` (bending), and ``pair hybrid`` of two
+``nm/cut``: the lamella's LJ between walls of different cells (different colours, atom
+types), every pair counted (a lamella bond does not hide the LJ of its pair, as in 2-D),
+and the wall's self-avoidance within one cell (one colour), sparing bonded pairs
+(:data:`cgms.mfc.tissue3d.SELF_SPECIAL`). Every force has an energy, so steady
+states are minima.
 """
 
 import math
@@ -17,7 +19,7 @@ import numpy as np
 from scipy.spatial import ConvexHull, QhullError
 
 from .model import level
-from . import cell3d
+from . import cell3d, tissue3d
 
 DEFAULTS = dict(ftol=1e-10, chunk=2000, stage=0.05, max_iterations=20000, dmax=1e-7,
                 kick=1e-7, seed=1)
@@ -34,13 +36,32 @@ def setup_commands(data, w, newton="on", processors=None):
     if processors:
         lines.append(f"processors {processors}")
     lines += ["bond_style harmonic", "angle_style zero", "dihedral_style harmonic",
-              f"pair_style nm/cut {rc:.10g}", "pair_modify shift yes",
-              f"read_data {data}", "special_bonds lj/coul 1.0 1.0 1.0", "angle_coeff *",
-              f"pair_coeff * * {w['lamella_E0']:.10g} {w['pectin']:.10g} 8 4 {rc:.10g}",
-              "neigh_modify exclude molecule/intra all",
+              f"read_data {data}", "angle_coeff *", *pair_commands(w),
               "neighbor 2e-6 bin", "neigh_modify delay 0 every 1 check yes",
               # a dihedral's far corner may be two wall edges from a rank's atoms
               f"comm_modify cutoff {max(3 * reach, rc + 2e-6):.6e}"]
+    return lines
+
+
+def pair_commands(w):
+    """The pair forces of a 3-D tissue (after ``read_data``): the lamella's LJ between
+    walls of different colours, the self-avoidance within a colour (a cell), each with its
+    own weights of bonded pairs (``pair_modify special``). LAMMPS lets a sub-style set
+    those only where the global ``special_bonds`` weight is neither 0 nor 1 (which change
+    the neighbour list), so where the two differ the global weight is a placeholder, 0.5,
+    that both replace; elsewhere it is 1 (LAMMPS then keeps no 1-3 and 1-4 lists, which
+    the glued walls would make large)."""
+    rc, r0 = w["lamella_rc"], w["self_r0"]
+    spared = " ".join(f"{v:g}" for v in tissue3d.SELF_SPECIAL)
+    placeholder = " ".join("1.0" if v == 1.0 else "0.5" for v in tissue3d.SELF_SPECIAL)
+    lines = [f"special_bonds lj {placeholder} coul 1.0 1.0 1.0",
+             f"pair_style hybrid nm/cut {rc:.10g} nm/cut {r0:.10g}", "pair_modify shift yes",
+             f"pair_coeff * * nm/cut 1 {w['lamella_E0']:.10g} {w['pectin']:.10g} 8 4 "
+             f"{rc:.10g}"]
+    lines += [f"pair_coeff {t} {t} nm/cut 2 {w['self_E0']:.10g} {r0:.10g} 8 4 {r0:.10g}"
+              for t in range(1, tissue3d.COLOURS + 1)]
+    lines += ["pair_modify pair nm/cut 1 special lj 1.0 1.0 1.0",
+              f"pair_modify pair nm/cut 2 special lj {spared}"]
     return lines
 
 

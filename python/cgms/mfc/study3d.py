@@ -97,9 +97,9 @@ class WallCrossing(RuntimeError):
         kept = (f"the levels finished (s = {done}) stay in {dump.parent}" if results else
                 "no level finished")
         cure = (f"a gentler ramp (--stage below {step:g}), another --seed, or a finer wall "
-                "(--subdivision); the 3-D wall has no self-avoidance (doc/mfc.md, "
-                "\"3-D tissue\"), so a wall folded through itself needs one; the fine model "
-                "may not reach this dryness" if previous is not None else
+                "(--subdivision); a wall through itself got past its self-avoidance "
+                "(radius d_p, doc/mfc.md, \"3-D tissue\"); the fine model may not reach "
+                "this dryness" if previous is not None else
                 "check the cell centres and the subdivision: the relaxed fresh walls must "
                 "not overlap")
         super().__init__(f"{where}: {crossing3d.describe(found)}, so the level is not "

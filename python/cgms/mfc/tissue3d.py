@@ -25,10 +25,16 @@ Decisions (the 2-D tissue's, carried to 3-D; doc/mfc.md says why):
   P_T (:func:`prestress`), as the 2-D ring's pre-stress makes the free cell a circle at
   P_T. (``rest="sphere"``: resting in the free cell's shape, the mesh on the sphere; its
   fresh block does not stay cubic, doc/results/mfc.md);
-* between walls of different cells (``neigh_modify exclude molecule/intra``): the 2-D
-  lamella's 8-4 LJ (r0 = d_p, cutoff 12 um) with E0 scaled by the wall area a 3-D node
-  stands for over a 2-D node's (``spacing x H``); the lamella bonds, set at rest in the
-  relaxed fresh tissue, with the LJ's stiffness at d_p (32 E0 / d_p^2, as 2-D).
+* between walls of different cells: the 2-D lamella's 8-4 LJ (r0 = d_p, cutoff 12 um)
+  with E0 scaled by the wall area a 3-D node stands for over a 2-D node's
+  (``spacing x H``); the lamella bonds, set at rest in the relaxed fresh tissue, with the
+  LJ's stiffness at d_p (32 E0 / d_p^2, as 2-D);
+* within a cell's wall, the self-avoidance: the 2-D one's repulsive 8-4 LJ (E0 scaled as
+  the lamella's), of radius r0 = d_p, between particles not bonded to each other
+  (:data:`SELF_SPECIAL`). A pair style cannot tell a cell's own pairs from a
+  neighbour's, so the cells are coloured (:func:`colours`, atom types 1-4, no two
+  neighbours alike) and a type's own pair is the self-avoidance (same-coloured cells are
+  never neighbours).
 """
 
 import functools
@@ -51,6 +57,23 @@ from . import cell3d
 TISSUE3D = dict(subdivision=5, reach=1.05, rest="polyhedron")
 #: lamella rest lengths are binned to this (m), one bond type per bin (as 2-D)
 REST_BIN = 1e-8
+#: the wall's self-avoidance (doc/mfc.md, "3-D tissue", "Self-avoidance"): the weights of
+#: its pairs 1, 2 and 3 bonds apart (``pair_modify special lj``). Decision: its radius is
+#: d_p, and bonded pairs are spared. A particle repulsion stops a wall passing through
+#: itself only if its radius exceeds the distance from the corners of one triangle to the
+#: other's as they cross: hypot(l1, l2) / 2 for two edges crossing at their middles, at
+#: most l_max / sqrt(2) = 7.6 um here (l_max = 10.8 um built, less as the wall dries), so
+#: r0 = d_p = 8 um (the gap the lamella keeps between two walls, here between the layers
+#: of a fold). That is above the shortest bond (7.6 um built, 5.5 um measured in a dried
+#: fold), so bonded pairs are spared; the closest unbonded pair of the flat wall (a square
+#: face's unbonded diagonal) is 10.8 um built, 8.6 um at the s = 0.3 rest lengths, so a
+#: wall not folded or crushed is not touched. Pairs two bonds apart are not spared: they
+#: include the far corners of a hinge, and spared, a hinge folds flat and through (a free cell
+#: dried to s = 0.3 in one step crossed itself so, tests/mfc/test_mfc3d_crossing.py).
+#: E0: the 2-D wall's (SELF_E0_FOLDS) scaled by area per node as the lamella's.
+SELF_SPECIAL = (0.0, 1.0, 1.0)
+#: atom types of the cell colours (:func:`colours`)
+COLOURS = 4
 
 
 def polyhedron(n):
@@ -172,7 +195,7 @@ def wall(p, n=TISSUE3D["subdivision"], rest=None):
     and the lamella's LJ and bond constants (cached: the pre-stress takes a few
     relaxations of a free cell)."""
     keys = ("diameter", "wall_Et", "wall_thickness", "bend_factor", "P_f", "K", "pectin",
-            "b_ref", "per_side", "height", "lamella_E0", "lamella_rc")
+            "b_ref", "per_side", "height", "lamella_E0", "lamella_rc", "self_E0")
     w = _wall(tuple((key, float(p[key])) for key in keys), int(n) if int(n) == n else n,
               rest or TISSUE3D["rest"])
     return {key: (v.copy() if isinstance(v, np.ndarray) else v) for key, v in w.items()}
@@ -216,14 +239,16 @@ def _build_wall(p, n, rest):
     node_area = built_area / len(x)
     # the 2-D lamella per node stood for spacing x H of wall: scale by the area per node
     area_2d = p["b_ref"] / int(p["per_side"]) * p["height"]
-    e0 = p["lamella_E0"] * node_area / area_2d
+    per_node = node_area / area_2d
+    e0 = p["lamella_E0"] * per_node
     return dict(x=x, tri=tri, edges=edges, hinges=hinges, radius=radius, cube=a,
                 k_bond=free["k_bond"], stretch=stretch, k_dihedral=free["k_dihedral"],
                 rest_classes=classes, bond_type=kind + 1, free_x=sphere,
                 built_area=built_area, fluid_volume=fluid,
                 mesh_volume=cell3d.volume(x, tri)[0], spacing=float(length.max()),
                 node_area=node_area, lamella_E0=e0, lamella_k=32 * e0 / p["pectin"] ** 2,
-                lamella_rc=p["lamella_rc"], pectin=p["pectin"], subdivision=n)
+                lamella_rc=p["lamella_rc"], pectin=p["pectin"], subdivision=n,
+                self_E0=p["self_E0"] * per_node, self_r0=p["pectin"])
 
 
 def lattice_edge(p):
@@ -239,6 +264,17 @@ def block(p, cubes=2):
     edge = lattice_edge(p)
     side = cubes * edge
     return coarse3d.bcc(coarse3d.box(side, side, side), edge)
+
+
+def colours(centres, p):
+    """Per cell a colour 0..3, no two neighbours alike, of cells on the BCC lattice of
+    :func:`block`: in half cube edges the corner sublattice has even indices and the body
+    centres odd ones, so the parity of the x index tells the sublattice (the 8 hexagonal
+    neighbours are of the other), and the parity of the summed halved indices tells two
+    square-face neighbours (2 apart along one axis) apart."""
+    centres = np.atleast_2d(np.asarray(centres, float))
+    idx = np.rint((centres - centres.min(axis=0)) / (lattice_edge(p) / 2)).astype(int)
+    return 2 * (idx[:, 0] % 2) + (idx // 2).sum(axis=1) % 2
 
 
 def walls(centres, p, n=TISSUE3D["subdivision"]):
@@ -282,31 +318,40 @@ def write_data(path, centres, p, n=TISSUE3D["subdivision"], x=None, lamella=None
     of the walls around ``centres`` (or at positions ``x``, e.g. a relaxed state), with
     wall bonds (types 1.. by rest-length class), triangles as angles (type 1), hinges as
     dihedrals (type 1) and the lamella bonds ``lamella`` = (pairs, types, rest) of
-    :func:`fresh_lamella`. Returns (positions, cell, wall)."""
+    :func:`fresh_lamella`; atom type = the cell's colour + 1 (:func:`colours`). Returns
+    (positions, cell, wall)."""
     built, cell, w = walls(centres, p, n)
+    colour = colours(centres, p)
     x = built if x is None else np.asarray(x, float)
     if x.shape != built.shape:
         raise ValueError(f"positions of shape {x.shape} do not fit {len(centres)} cells of "
                          f"{len(w['x'])} wall particles")
     ncell, m = len(np.atleast_2d(centres)), len(w["x"])
     pairs, types, rest = lamella if lamella is not None else (np.zeros((0, 2), int), [], [])
+    alike = colour[cell[pairs[:, 0]]] == colour[cell[pairs[:, 1]]]
+    if np.any(alike):
+        i, j = pairs[np.argmax(alike)]
+        raise ValueError(f"cells {cell[i] + 1} and {cell[j] + 1} are glued but have one "
+                         "colour (their walls would avoid each other as a cell's own): the "
+                         "cell centres must lie on the BCC lattice of cgms.mfc.tissue3d.block")
     margin = 2 * w["radius"] if margin is None else margin
     lo, hi = x.min(axis=0) - margin, x.max(axis=0) + margin
     mass = p["solid_ratio"] * p["rho0"] * w["fluid_volume"] / m
     nbond = len(w["edges"]) * ncell + len(pairs)
     lines = [title, "", f"{len(x)} atoms", f"{nbond} bonds", f"{len(w['tri']) * ncell} angles",
-             f"{len(w['hinges']) * ncell} dihedrals", "", "1 atom types",
+             f"{len(w['hinges']) * ncell} dihedrals", "", f"{COLOURS} atom types",
              f"{len(w['rest_classes']) + len(rest)} bond types", "1 angle types",
              "1 dihedral types", ""]
     lines += [f"{lo[d]:.10e} {hi[d]:.10e} {c}lo {c}hi" for d, c in enumerate("xyz")]
-    lines += ["", "Masses", "", f"1 {mass:.10e}", "", "Bond Coeffs # harmonic", ""]
+    lines += ["", "Masses", ""] + [f"{t} {mass:.10e}" for t in range(1, COLOURS + 1)]
+    lines += ["", "Bond Coeffs # harmonic", ""]
     lines += [f"{t + 1} {w['k_bond'] / 2:.17e} {r:.17e}"
               for t, r in enumerate(w["rest_classes"])]
     lines += [f"{t} {w['lamella_k'] / 2:.17e} {r:.17e}"
               for t, r in enumerate(rest, start=len(w["rest_classes"]) + 1)]
     lines += ["", "Dihedral Coeffs # harmonic", "", f"1 {w['k_dihedral']:.12e} 1 1"]
     lines += ["", "Atoms # molecular", ""]
-    lines += [f"{i + 1} {cell[i] + 1} 1 {a:.15e} {b:.15e} {c:.15e}"
+    lines += [f"{i + 1} {cell[i] + 1} {colour[cell[i]] + 1} {a:.15e} {b:.15e} {c:.15e}"
               for i, (a, b, c) in enumerate(x)]
     bonds = [(t, *(e + k * m + 1)) for k in range(ncell)
              for t, e in zip(w["bond_type"], w["edges"])]
