@@ -59,9 +59,13 @@ from . import shaped_target as target
 #: = ``glue`` k_g (0: off). The middle lamella glues the two cells along the wall, so both
 #: see one wall: the jump F_k - F_i may only stretch across it (Hadamard's compatibility),
 #: and a cell's flattening passes to its neighbours through their shared walls
+#: ``wall_pool``: one wall law per cell on its chord perimeter sum_e |F d_e| against the sum
+#: of its walls' rest lengths (False: one law per wall). The walls then share their length,
+#: so a cell's energy no longer prefers an axis of its hexagon (doc/results/
+#: shaped-results.md, "2026-12-03 (fifth session)")
 DEFAULTS = dict(shaped.DEFAULTS, kg_ratio=1.0, strip="chord", void=0.0, void_onset=0.5,
                 smooth=0.25, iso=0.0, iso_rim=None, rim_class="rim", dev_mean=0.0,
-                dev_hops=2, net_shear=None, shear_smooth=0.0, glue=0.0)
+                dev_hops=2, net_shear=None, shear_smooth=0.0, glue=0.0, wall_pool=False)
 
 
 def _cof(F):
@@ -140,6 +144,7 @@ def build(xy0, mat, params=None, spacing=None, local=False):
         geo["dev_weights"] = shaped_mean.bond_weights(geo["n"], bonds, p["dev_hops"])
     if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
+    geo["wall_pool"] = bool(p["wall_pool"])
     geo["glue"] = float(p["glue"])
     if not geo["glue"] >= 0:
         raise ValueError(f"glue must be >= 0, not {p['glue']!r}")
@@ -428,6 +433,12 @@ def _terms(z, lev):
     mat = lev["mat"]
     x, F, c, chord, A = cells(z, lev)
     H, K = mat["height"], mat["K"]
+    if lev.get("wall_pool"):
+        # one wall law per cell on its chord perimeter: the walls share their length
+        L = np.bincount(lev["cell"], chord, minlength=lev["n"])
+        e_c, de_c = shaped.wall_energy(L, lev["rest_sum"], lev["wall_EA"], lev["buckle"],
+                                       lev["soft"])
+        return x, F, c, chord, A, e_c, de_c[lev["cell"]], mismatch(z, lev), H, K
     e_w, de_w = shaped.wall_energy(chord, lev["rest"], lev["wall_EA"], lev["buckle"],
                                    lev["soft"])
     return x, F, c, chord, A, e_w, de_w, mismatch(z, lev), H, K
@@ -474,8 +485,16 @@ def hessian(z, lev):
     d2w = np.where(chord >= lb, k, lev["soft"] * k)
     _, gA, hA = fluid_area(F, c, chord, lev, order=2)
     gl, l2 = _chord_derivatives(c, chord, lev)
-    blocks = _per_cell(d2w[:, None, None] * gl[:, :, None] * gl[:, None, :]
-                       + de_w[:, None, None] * l2, lev)
+    if lev.get("wall_pool"):
+        L = np.bincount(lev["cell"], chord, minlength=n)
+        gL = _per_cell(gl, lev)
+        k2 = shaped.wall_stiffness(L, lev["rest_sum"], lev["wall_EA"], lev["buckle"],
+                                   lev["soft"])
+        blocks = k2[:, None, None] * gL[:, :, None] * gL[:, None, :] \
+            + _per_cell(de_w[:, None, None] * l2, lev)
+    else:
+        blocks = _per_cell(d2w[:, None, None] * gl[:, :, None] * gl[:, None, :]
+                           + de_w[:, None, None] * l2, lev)
     blocks += f2[:, None, None] * gA[:, :, None] * gA[:, None, :] + f1[:, None, None] * hA
     idx = 2 * n + 4 * np.arange(n)[:, None] + np.arange(4)[None]
     rows = np.repeat(idx, 4, axis=1).ravel()

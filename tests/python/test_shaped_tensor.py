@@ -483,3 +483,28 @@ def test_shared_walls_pair_every_inner_wall_once():
     assert st.shaped_glue.energy(z, lev) is None
     with pytest.raises(ValueError, match="glue"):
         st.build(xy, MAT, dict(glue=-1.0))
+
+
+@pytest.mark.parametrize("s", [0.8, 0.4])
+def test_pooled_walls_derivatives(s):
+    """One wall law per cell on its chord perimeter (``wall_pool``): gradient and Hessian
+    against differences, with some cells' perimeters stretched and most buckled."""
+    assert_derivatives(*dried_state(s=s, params=dict(wall_pool=True)))
+
+
+def test_pooled_walls_of_a_uniform_strain_are_the_walls_law():
+    """Every wall stretched alike (F = (1 + e) I on the built lattice): the pooled law
+    EA / (2 R) (L - R)^2 equals the sum of the walls' own EA / (2 r) (l - r)^2; with
+    the walls unequal it is lower (the walls share their length)."""
+    xy = tissue.rectangle(0.75e-3, 0.75e-3, L)
+    for pool in (False, True):
+        geo = st.build(xy, MAT, dict(wall_pool=pool))
+        lev = st.at_level(geo, 1.0)
+        x, _ = st.split(st.fresh_state(geo), geo["n"])
+        z = st.join(x, np.broadcast_to(1.01 * np.eye(2), (geo["n"], 2, 2)))
+        e = st._terms(z, lev)[5].sum()
+        zs = st.join(x, np.broadcast_to(np.diag([1.03, 0.99]), (geo["n"], 2, 2)))
+        if not pool:
+            per_wall, per_wall_sheared = e, st._terms(zs, lev)[5].sum()
+    assert e == pytest.approx(per_wall, rel=1e-12)
+    assert st._terms(zs, lev)[5].sum() < per_wall_sheared
