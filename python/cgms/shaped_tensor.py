@@ -30,6 +30,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import model, shaped, shaped_glue, shaped_mean, superpose
+from .shaped_shear import net_shear_modulus, shear_energy as _shear_energy, \
+    shear_table as _shear_table
 from . import shaped_target as target
 
 #: parameters beyond cgms.shaped.DEFAULTS: kg_ratio, the lamella's compatibility stiffness
@@ -155,24 +157,6 @@ def build(xy0, mat, params=None, spacing=None, local=False):
     return geo
 
 
-def _shear_table(value):
-    """``net_shear`` as an (m, 2) array of (s, mu) rows in increasing s, or None (off)."""
-    if value is None:
-        return None
-    t = np.array([[1.0, value]], float) if np.ndim(value) == 0 else np.array(value, float)
-    if t.ndim != 2 or t.shape[1] != 2 or not np.all(t[:, 1] > 0) or not np.all(t[:, 0] > 0):
-        raise ValueError(f"net_shear must be a modulus > 0 (N/m) or [[s, mu], ...] pairs "
-                         f"with s > 0 and mu > 0, not {value!r}")
-    return t[np.argsort(t[:, 0])]
-
-
-def net_shear_modulus(table, s):
-    """The network's shear modulus mu(s) (N/m) of a ``net_shear`` table: ln mu linear in s
-    between its points, held beyond its ends (**Decision**: the fine model's modulus is
-    measured at the levels only, and neither falls nor rises steadily between them)."""
-    return float(np.exp(np.interp(s, table[:, 0], np.log(table[:, 1]))))
-
-
 def _fresh_with_void(geo, mat):
     """Fresh fluid areas and wall rest lengths when the turgid cells hold intercellular
     space: the built lattice (F = I) balances when H P_f dA/d(eta) = T L under a uniform
@@ -221,27 +205,6 @@ def shear(z, n):
     """The network's shear (u, v) per cell (n, 2) of a state vector, or None (without
     ``net_shear`` a state holds x and F only)."""
     return np.asarray(z, float)[6 * n:].reshape(n, 2) if len(z) > 6 * n else None
-
-
-def _shear_energy(T, lev):
-    """The network's shear energy 2 mu sum_i A_poly0,i |T_i|^2 plus, with ``shear_smooth``
-    c, its smoothness 2 mu c sum_(bonds ik) (A_poly0,i + A_poly0,k) / 2 |T_i - T_k|^2: the
-    energy, its gradient (n, 2) and its constant Hessian in one component of T (n, n,
-    sparse; the same for u and v). mu is the modulus for a shear strain T / sqrt(det F)
-    over the cell's area det(F) A_poly0, in which det F cancels."""
-    n, mu, A0 = lev["n"], lev["mu_net"], lev["poly_area0"]
-    H1 = sp.diags(4 * mu * A0)
-    c = lev["shear_smooth"]
-    if c:
-        i, k = lev["bonds"][:, 0], lev["bonds"][:, 1]
-        w = 2 * mu * c * (A0[i] + A0[k])          # d2/dT_i^2 of w / 2 |T_i - T_k|^2
-        L = sp.coo_matrix((np.concatenate([w, w, -w, -w]),
-                           (np.concatenate([i, k, i, k]), np.concatenate([i, k, k, i]))),
-                          shape=(n, n))
-        H1 = H1 + L
-    H1 = sp.csr_matrix(H1)
-    g = H1 @ T
-    return 0.5 * float(np.sum(T * g)), g, H1
 
 
 def align(z, ref, n=None):
