@@ -278,6 +278,9 @@ def main(argv=None):
     args = ap.parse_args(argv)
     model = MODELS[args.model]
     solver = None
+    if args.solver == "newton" and model is not shaped_tensor:
+        ap.error("--solver newton solves the tensor model's state (cgms.shaped_newton): "
+                 "give --model tensor, or leave out --solver")
     if args.solver == "newton":
         from cgms import shaped_newton
         solver = shaped_newton.newton
