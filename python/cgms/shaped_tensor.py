@@ -492,7 +492,7 @@ def hessian(z, lev):
                                  (np.concatenate([6 * n + 2 * H1.row, 6 * n + 2 * H1.row + 1]),
                                   np.concatenate([6 * n + 2 * H1.col, 6 * n + 2 * H1.col + 1]))),
                                 shape=(N, N))
-    glue = shaped_glue.energy(z, lev)
+    glue = shaped_glue.energy(z, lev, order=2)
     if glue is not None:
         Hm = Hm + glue[2]
     return sp.csr_matrix(Hm)

@@ -49,12 +49,16 @@ def main(argv=None):
     saved = np.load(Path(args.folder) / f"{args.tissue}.npz")
     inner = np.flatnonzero(~geo["boundary"])
     i = inner[len(inner) // 2]
+    asked = [float(v) for v in args.levels.split(",")]
+    found = [(s, z) for s, z in zip(saved["levels"], saved["states"])
+             if any(abs(s - v) <= 1e-9 for v in asked)]    # 0.6 and 0.60 alike
+    if not found:
+        ap.error(f"{args.tissue}.npz holds the levels "
+                 f"{', '.join(f'{s:g}' for s in saved['levels'])}, none of --levels")
     print("| s | cell | stretches / sqrt(s) | dE(phi) for phi = 0, 15, ..., 90 deg (J) "
           "| amplitude / (P_T A H) |")
     print("|---|---|---|---|---|")
-    for s, z in zip(saved["levels"], saved["states"]):
-        if f"{s:g}" not in args.levels.split(","):
-            continue
+    for s, z in found:
         lev = st.at_level(geo, s)
         x, F = st.split(z, n)
         E0 = st.energy(z, lev, gradient=False)
@@ -62,7 +66,7 @@ def main(argv=None):
         for phi in np.radians(np.arange(0, 91, 15)):
             G = F.copy()
             G[i] = turned(F[i], phi)
-            dE.append(st.energy(st.join(x, G), lev, gradient=False) - E0)
+            dE.append(st.energy(st.join(x, G, st.shear(z, n)), lev, gradient=False) - E0)
         scale = lev["P_T"] * lev["A_f"][i] * mat["height"]
         stretch = np.linalg.svd(F[i], compute_uv=False) / np.sqrt(s)
         print(f"| {s:g} | {i} | {stretch[0]:.3f}, {stretch[1]:.3f} | "
