@@ -98,6 +98,12 @@ def test_wall_crossing_says_where_what_is_kept_and_what_to_try():
                  "walls.failed.s0.55.dump", "gentler ramp (--stage below 0.05)", "--seed",
                  "self-avoidance"):
         assert part in text
+    # walls of two cells through each other: the cure names the lamella, not the
+    # self-avoidance the cells' own walls have
+    found = dict(self=[], between=[(2, 5, 1200, 4100)], cells=[2, 5])
+    text = str(study3d.WallCrossing(found, 0.4, 0.4, 0.6, [dict(s=1.0)],
+                                    Path("/out/walls.failed.s0.4.dump")))
+    assert "the lamella's repulsion" in text and "self-avoidance" not in text
 
 
 @pytest.mark.lammps

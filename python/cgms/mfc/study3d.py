@@ -96,10 +96,16 @@ class WallCrossing(RuntimeError):
         done = ", ".join(f"{r['s']:g}" for r in results)
         kept = (f"the levels finished (s = {done}) stay in {dump.parent}" if results else
                 "no level finished")
+        # name what was passed: a cell's own repulsion, or the lamella's between two
+        past = "; ".join(
+            what for what, there in (
+                ("a wall through itself got past its self-avoidance (radius d_p, "
+                 "doc/mfc.md, \"3-D tissue\")", found["self"]),
+                ("walls of two cells through each other got past the lamella's repulsion "
+                 "(inside d_p)", found["between"])) if there)
         cure = (f"a gentler ramp (--stage below {step:g}), another --seed, or a finer wall "
-                "(--subdivision); a wall through itself got past its self-avoidance "
-                "(radius d_p, doc/mfc.md, \"3-D tissue\"); the fine model may not reach "
-                "this dryness" if previous is not None else
+                f"(--subdivision); {past}; the fine model may not reach this dryness"
+                if previous is not None else
                 "check the cell centres and the subdivision: the relaxed fresh walls must "
                 "not overlap")
         super().__init__(f"{where}: {crossing3d.describe(found)}, so the level is not "
