@@ -140,9 +140,12 @@ def build(xy0, mat, params=None, spacing=None, local=False):
         geo["dev_weights"] = shaped_mean.bond_weights(geo["n"], bonds, p["dev_hops"])
     if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
-    geo["glue"] = float(p["glue"])
+    try:
+        geo["glue"] = float(p["glue"])
+    except (TypeError, ValueError):
+        geo["glue"] = math.nan
     if not geo["glue"] >= 0:
-        raise ValueError(f"glue must be >= 0, not {p['glue']!r}")
+        raise ValueError(f"glue must be a number >= 0, not {p['glue']!r}")
     if geo["glue"]:
         if local:
             raise ValueError("glue needs the dense build (the local one keeps no wall pairs)")

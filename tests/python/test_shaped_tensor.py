@@ -481,5 +481,6 @@ def test_shared_walls_pair_every_inner_wall_once():
         np.linalg.norm([0.3, -0.2]) * np.linalg.norm(d0[e]), rel=64 * EPS)
     lev = st.at_level(st.build(xy, MAT, {}), 0.6)
     assert st.shaped_glue.energy(z, lev) is None
-    with pytest.raises(ValueError, match="glue"):
-        st.build(xy, MAT, dict(glue=-1.0))
+    for bad in (-1.0, float("nan"), "strong", None):
+        with pytest.raises(ValueError, match=r"^glue must be a number >= 0, not "):
+            st.build(xy, MAT, dict(glue=bad))
