@@ -187,7 +187,7 @@ def test_cells_are_coloured_so_no_two_glued_walls_share_a_colour(tmp_path):
         assert len(pairs) and np.all(colour[cell[pairs[:, 0]]] != colour[cell[pairs[:, 1]]])
     centres = tissue3d.block(P, 2)
     same = np.nonzero(tissue3d.colours(centres, P) == tissue3d.colours(centres, P)[0])[0][1]
-    m = 36 * 2 * 2 + 2
+    m = len(tissue3d.wall(P, 2)["x"])    # particles per cell
     with pytest.raises(ValueError, match=f"cells 1 and {same + 1} are glued but have one "
                                          "colour"):
         tissue3d.write_data(tmp_path / "bad.data", centres, P, n=2,
