@@ -311,7 +311,8 @@ def main(argv=None):
                 f"{k} {r[f'shaped {k}']:.4f} vs {r[f'ens {k}']:.4f} ({r[f'ens z {k}']:+.1f} sd)"
                 for k in KEYS) + f"; RMSD to the mean centroids {r['ens rmsd_um']:.1f} um "
                 f"(floor {r['ens floor_um']:.1f})")
-    print(f"params {json.dumps(params)}; {time.time() - t0:.1f} s")
+    # the solver may land on another nearby minimum: which one made the table is part of it
+    print(f"params {json.dumps(params)}; solver {args.solver}; {time.time() - t0:.1f} s")
     if args.csv:
         import csv
         keys = sorted({k for r in rows for k in r})
