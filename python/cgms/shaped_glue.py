@@ -41,9 +41,10 @@ def shared_walls(geo):
     return sp.csr_matrix((vals, (rows, cols)), shape=(2 * len(pairs), 6 * n))
 
 
-def energy(z, lev):
-    """The shared walls' agreement (``glue``): energy, gradient (len(z)) and its constant
-    Hessian (sparse, len(z) square), or None when off."""
+def energy(z, lev, order=1):
+    """The shared walls' agreement (``glue``): energy and gradient (len(z)), with ``order``
+    2 also its constant Hessian (sparse, len(z) square; not formed for the energy's many
+    line-search calls), or None when off."""
     if not lev["glue"]:
         return None
     W = lev["W"]
@@ -51,4 +52,5 @@ def energy(z, lev):
         W = sp.hstack([W, sp.csr_matrix((W.shape[0], len(z) - W.shape[1]))]).tocsr()
     k_w = lev["glue"] * lev["k_g"]
     m = W @ z
-    return 0.5 * k_w * float(m @ m), k_w * (W.T @ m), k_w * (W.T @ W)
+    out = (0.5 * k_w * float(m @ m), k_w * (W.T @ m))
+    return out + (k_w * (W.T @ W),) if order == 2 else out

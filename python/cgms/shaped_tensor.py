@@ -147,9 +147,12 @@ def build(xy0, mat, params=None, spacing=None, local=False):
     if p["void"] or local:   # (shaped.build's fresh balance is this one without void)
         _fresh_with_void(geo, mat)
     geo["wall_pool"] = bool(p["wall_pool"])
-    geo["glue"] = float(p["glue"])
+    try:
+        geo["glue"] = float(p["glue"])
+    except (TypeError, ValueError):
+        geo["glue"] = math.nan
     if not geo["glue"] >= 0:
-        raise ValueError(f"glue must be >= 0, not {p['glue']!r}")
+        raise ValueError(f"glue must be a number >= 0, not {p['glue']!r}")
     if geo["glue"]:
         if local:
             raise ValueError("glue needs the dense build (the local one keeps no wall pairs)")
@@ -474,7 +477,7 @@ def hessian(z, lev):
                                  (np.concatenate([6 * n + 2 * H1.row, 6 * n + 2 * H1.row + 1]),
                                   np.concatenate([6 * n + 2 * H1.col, 6 * n + 2 * H1.col + 1]))),
                                 shape=(N, N))
-    glue = shaped_glue.energy(z, lev)
+    glue = shaped_glue.energy(z, lev, order=2)
     if glue is not None:
         Hm = Hm + glue[2]
     return sp.csr_matrix(Hm)

@@ -25,9 +25,36 @@ def levels(folder):
             for f in Path(folder).glob("level.s*.json")}
 
 
+def same_functional(folders):
+    """None if every folder's ``setup.json`` holds one tissue (its centres) and one set of
+    parameters, so that their energies are of one functional; else what differs."""
+    setups = {}
+    for label, folder in folders:
+        path = Path(folder) / "setup.json"
+        if not path.is_file():
+            return f"{folder} has no setup.json: not a tissue folder of cgms mfc"
+        setup = json.loads(path.read_text())
+        setups[label] = (setup.get("centres_sha256"), setup.get("parameters"))
+    (first, a), *rest = setups.items()
+    for label, b in rest:
+        if b[0] != a[0]:
+            return f"{first} and {label} are of different tissues (cell centres)"
+        if b[1] != a[1]:
+            return (f"{first} and {label} were made with different parameters, so their "
+                    "energies are of different functionals")
+    return None
+
+
 def main(argv=None):
     args = argv if argv is not None else sys.argv[1:]
-    studies = [(a.split("=", 1)[0], levels(a.split("=", 1)[1])) for a in args]
+    if not args or any("=" not in a for a in args):
+        sys.exit("usage: branches.py LABEL=FOLDER [LABEL=FOLDER ...] (tissue folders of "
+                 "cgms mfc --out)")
+    folders = [tuple(a.split("=", 1)) for a in args]
+    differ = same_functional(folders)
+    if differ:
+        sys.exit(f"branches.py: {differ}; compare studies of one tissue and parameters")
+    studies = [(label, levels(folder)) for label, folder in folders]
     common = sorted(set.intersection(*(set(r) for _, r in studies)), reverse=True)
     print("| s | study | " + " | ".join(KEYS) + " | energy (J) | largest force (N) |")
     print("|---|---|" + "---|" * (len(KEYS) + 2))

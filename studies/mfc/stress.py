@@ -39,7 +39,6 @@ from cgms import morphology
 from cgms.mfc import model as mfc_model
 
 
-
 def _section(lines, name):
     start = lines.index(name) + 2
     rows = []

@@ -278,6 +278,9 @@ def main(argv=None):
     args = ap.parse_args(argv)
     model = MODELS[args.model]
     solver = None
+    if args.solver == "newton" and model is not shaped_tensor:
+        ap.error("--solver newton solves the tensor model's state (cgms.shaped_newton): "
+                 "give --model tensor, or leave out --solver")
     if args.solver == "newton":
         from cgms import shaped_newton
         solver = shaped_newton.newton
@@ -308,7 +311,8 @@ def main(argv=None):
                 f"{k} {r[f'shaped {k}']:.4f} vs {r[f'ens {k}']:.4f} ({r[f'ens z {k}']:+.1f} sd)"
                 for k in KEYS) + f"; RMSD to the mean centroids {r['ens rmsd_um']:.1f} um "
                 f"(floor {r['ens floor_um']:.1f})")
-    print(f"params {json.dumps(params)}; {time.time() - t0:.1f} s")
+    # the solver may land on another nearby minimum: which one made the table is part of it
+    print(f"params {json.dumps(params)}; solver {args.solver}; {time.time() - t0:.1f} s")
     if args.csv:
         import csv
         keys = sorted({k for r in rows for k in r})

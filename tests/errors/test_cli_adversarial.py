@@ -127,6 +127,8 @@ REFUSED = [
     ("mfc --dryness 5 --out o", "level 5 is outside (0, 1]"),
     ("mfc --stage nan --out o", "--stage must be in [0, 1)"),
     ("mfc --newton nan --out o", "--newton must be >= 0"),
+    ("mfc --stages steady --stage 0 --out o", "--stage 0 jumps (there are none)"),
+    ("mfc --stages quasi --out o", "argument --stages: invalid choice: 'quasi'"),
     ("mfc --material nosuch --out o", "material file 'nosuch' not found"),
     ("mfc --temperature 150 --out o", "--temperature must be in 0 .. 100 (C"),
     ("mfc --temperature -1 --out o", "--temperature must be in 0 .. 100 (C"),

@@ -677,25 +677,33 @@ def test_ramp_seeds_each_dried_levels_kick(monkeypatch):
 def test_ramp_relaxes_its_stages_to_steady_state_when_asked(monkeypatch):
     """By default an intermediate level of the ramp gets one chunk of minimisation at a
     looser force test and no Newton; with ``steady_stages`` every level gets the options
-    of the asked level (a quasi-static path), with the same kicks."""
+    of the asked level (a quasi-static path), with the same kicks, and the report names
+    the intermediate levels that did not reach their steady state."""
     calls = []
     monkeypatch.setattr(mfc_run, "relax",
                         lambda lmp, p, s, **options: calls.append((s, options))
-                        or dict(iterations=1))
+                        or dict(iterations=1, converged=abs(s - 0.9) > 1e-9))
 
-    class Quiet:
+    class Recorder:
+        def __init__(self):
+            self.lines = []
+
         def command(self, line):
-            pass
+            self.lines.append(line)
 
     asked = dict(ftol=1e-10, newton=1e-6, max_iterations=20000, chunk=2000)
-    mfc_run.ramp(Quiet(), P, 1.0, 0.85, **asked)
+    chunked, steady = Recorder(), Recorder()
+    report = mfc_run.ramp(chunked, P, 1.0, 0.85, **asked)
     assert [s for s, _ in calls] == pytest.approx([0.95, 0.9, 0.85])
     assert [o for _, o in calls[:2]] == [dict(asked, max_iterations=2000, ftol=1e3 * 1e-10,
                                               newton=None)] * 2
     assert calls[2][1] == asked
+    assert "unsteady_stages" not in report and report["iterations"] == 3
     calls.clear()
-    mfc_run.ramp(Quiet(), P, 1.0, 0.85, steady_stages=True, **asked)
+    report = mfc_run.ramp(steady, P, 1.0, 0.85, steady_stages=True, **asked)
     assert [o for _, o in calls] == [asked] * 3
+    assert steady.lines == chunked.lines and len(steady.lines) == 3
+    assert report["unsteady_stages"] == pytest.approx([0.9])
 
 
 # --------------------------------------------------------------------------- the command

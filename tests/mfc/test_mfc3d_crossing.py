@@ -98,6 +98,12 @@ def test_wall_crossing_says_where_what_is_kept_and_what_to_try():
                  "walls.failed.s0.55.dump", "gentler ramp (--stage below 0.05)", "--seed",
                  "self-avoidance"):
         assert part in text
+    # walls of two cells through each other: the cure names the lamella, not the
+    # self-avoidance the cells' own walls have
+    found = dict(self=[], between=[(2, 5, 1200, 4100)], cells=[2, 5])
+    text = str(study3d.WallCrossing(found, 0.4, 0.4, 0.6, [dict(s=1.0)],
+                                    Path("/out/walls.failed.s0.4.dump")))
+    assert "the lamella's repulsion" in text and "self-avoidance" not in text
 
 
 @pytest.mark.lammps
@@ -146,7 +152,8 @@ def test_self_avoidance_keeps_a_folding_wall_from_passing_through_itself(tmp_pat
     """Without the self-avoidance the cell's folds pass through each other (measured: 70
     intersecting triangle pairs); with it (radius d_p, bonded pairs spared) no two triangles
     intersect, and the closest unbonded pair lies inside the radius (the repulsion is what
-    holds the fold) but above half of it (it held; measured 7.87 um). The
+    holds the fold) but farther apart than two of its longest bonds' corners are when the
+    bonds cross at their middles, l_max / sqrt(2) (measured 7.87 um against 6.17 um). The
     study's wall at s = 0.3 rest lengths is not touched where flat: its closest unbonded
     pair (a square face's diagonal) lies beyond d_p."""
     x, w = dried_in_one_step(tmp_path, self_E0=0.0)
@@ -157,8 +164,9 @@ def test_self_avoidance_keeps_a_folding_wall_from_passing_through_itself(tmp_pat
     d = np.linalg.norm(x[:, None] - x[None], axis=2)
     d[w["edges"][:, 0], w["edges"][:, 1]] = d[w["edges"][:, 1], w["edges"][:, 0]] = np.inf
     np.fill_diagonal(d, np.inf)
-    assert 0.5 * w["self_r0"] < d.min() < w["self_r0"]
     e = w["edges"]
+    l_max = np.linalg.norm(x[e[:, 1]] - x[e[:, 0]], axis=1).max()
+    assert l_max / np.sqrt(2) < d.min() < w["self_r0"]
     flat = w["x"] * (1 - w["stretch"]) * mfc_model.level(P, 0.3)["contraction"]
     far = np.linalg.norm(flat[:, None] - flat[None], axis=2)
     far[e[:, 0], e[:, 1]] = far[e[:, 1], e[:, 0]] = np.inf
@@ -179,7 +187,7 @@ def test_cells_are_coloured_so_no_two_glued_walls_share_a_colour(tmp_path):
         assert len(pairs) and np.all(colour[cell[pairs[:, 0]]] != colour[cell[pairs[:, 1]]])
     centres = tissue3d.block(P, 2)
     same = np.nonzero(tissue3d.colours(centres, P) == tissue3d.colours(centres, P)[0])[0][1]
-    m = 36 * 2 * 2 + 2
+    m = len(tissue3d.wall(P, 2)["x"])    # particles per cell
     with pytest.raises(ValueError, match=f"cells 1 and {same + 1} are glued but have one "
                                          "colour"):
         tissue3d.write_data(tmp_path / "bad.data", centres, P, n=2,

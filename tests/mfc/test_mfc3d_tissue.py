@@ -6,6 +6,7 @@ octahedron and its facing walls, the lamella set at rest in the fresh state, sin
 cells against the equation of state and the virial, conservation, 1 against 2 ranks,
 restart, the drying study's files and refusals."""
 
+import json
 import math
 
 import numpy as np
@@ -277,6 +278,9 @@ def test_study_dries_a_glued_pair(tmp_path):
     out = tmp_path / "pair"
     res = study3d.dry(out, P, cubes=1, n=5, levels=(1.0, 0.8), say=lambda *a: None)
     assert [r["s"] for r in res] == [1.0, 0.8]
+    w = tissue3d.wall(P, 5)
+    assert json.loads((out / "setup.json").read_text())["self_avoidance"] == dict(
+        radius=w["self_r0"], E0=w["self_E0"], special=list(tissue3d.SELF_SPECIAL))
     for r in res:
         assert r["converged"] and r["fmax"] < 1e-10 and r["intrusions"] == 0
         assert abs(r["cell_volume_over_fluid"] - 1) < 0.02

@@ -100,6 +100,12 @@ def main(args):
     levels = args.dryness
     if not 0 <= args.stage < 1:
         raise UsageError(f"--stage must be in [0, 1), got {args.stage}")
+    if args.stages == "steady" and args.stage == 0:
+        # a jump has no levels between the asked ones: steady would change nothing but
+        # the folder's record, which then refuses to resume the identical --stage 0 study
+        raise UsageError("--stages steady relaxes the ramp's levels between the asked ones, "
+                         "and --stage 0 jumps (there are none): give --stage above 0, or "
+                         "leave out --stages")
     if not args.newton >= 0:
         raise UsageError(f"--newton must be >= 0 (N; 0: off), got {args.newton}")
     T = args.temperature

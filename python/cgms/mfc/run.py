@@ -280,8 +280,11 @@ def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
     the dried levels' neighbouring minima it lands on. ``steady_stages`` relaxes every
     intermediate level to its steady state too (a quasi-static path, about twice the cost;
     the long tissues reach another dried shape on it: doc/mfc.md, "How well the dried levels
-    are determined"). Returns the final :func:`relax` report with the total iterations."""
-    total = 0
+    are determined"). Returns the final :func:`relax` report with the total iterations;
+    with ``steady_stages`` also ``unsteady_stages``, the intermediate levels that did not
+    reach their steady state (the iterations spent first), so a path that was not
+    quasi-static says so."""
+    total, unsteady = 0, []
     levels = stages(s_from, s_to, stage) + [s_to]
     for k, s in enumerate(levels):
         if kick and s < 1:
@@ -295,5 +298,9 @@ def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
             ftol=1e3 * kwargs.get("ftol", DEFAULTS["ftol"]), newton=None)
         report = relax(lmp, p, s, **options)
         total += report["iterations"]
+        if steady_stages and not last and not report["converged"]:
+            unsteady.append(s)
     report["iterations"] = total
+    if steady_stages:
+        report["unsteady_stages"] = unsteady
     return report

@@ -145,7 +145,9 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
                 lmp = None
             say(f"cgms mfc: s = {s:g}: cell area / fresh {summary['cell_area/A0']:.4f}, "
                 f"{report['iterations']} iterations, {summary['seconds']:.1f} s"
-                + ("" if report["converged"] else " (NOT converged)"))
+                + ("" if report["converged"] else " (NOT converged)")
+                + "".join(f"; the ramp's level s = {v:g} did NOT reach its steady state"
+                          for v in report.get("unsteady_stages", ())))
     finally:
         if lmp is not None:
             lmp.close()

@@ -16,8 +16,9 @@ level, the fresh one too (unlike 2-D), the walls are kicked by up to 0.1 um (LAM
 tissue's hull volume and surface, summed cell volume, extents, iterations, largest force,
 seconds, and the count of wall particles inside another cell's wall, 0 when the lamella
 kept the walls apart); ``walls.s<s>.dump`` the wall particles (OVITO); ``summary.csv`` the
-levels in one table; ``lamella.txt`` the lamella's rest lengths. An existing folder is
-refused.
+levels in one table; ``lamella.txt`` the lamella's rest lengths; ``setup.json`` the
+block, the levels, the seed, the solver and the walls' self-avoidance. An existing folder
+is refused.
 
 After every stage and level the walls are checked (:mod:`cgms.mfc.crossing3d`): a wall
 that passed through itself or through a neighbour's stops the study with
@@ -96,10 +97,16 @@ class WallCrossing(RuntimeError):
         done = ", ".join(f"{r['s']:g}" for r in results)
         kept = (f"the levels finished (s = {done}) stay in {dump.parent}" if results else
                 "no level finished")
+        # name what was passed: a cell's own repulsion, or the lamella's between two
+        past = "; ".join(
+            what for what, there in (
+                ("a wall through itself got past its self-avoidance (radius d_p, "
+                 "doc/mfc.md, \"3-D tissue\")", found["self"]),
+                ("walls of two cells through each other got past the lamella's repulsion "
+                 "(inside d_p)", found["between"])) if there)
         cure = (f"a gentler ramp (--stage below {step:g}), another --seed, or a finer wall "
-                "(--subdivision); a wall through itself got past its self-avoidance "
-                "(radius d_p, doc/mfc.md, \"3-D tissue\"); the fine model may not reach "
-                "this dryness" if previous is not None else
+                f"(--subdivision); {past}; the fine model may not reach this dryness"
+                if previous is not None else
                 "check the cell centres and the subdivision: the relaxed fresh walls must "
                 "not overlap")
         super().__init__(f"{where}: {crossing3d.describe(found)}, so the level is not "
@@ -129,8 +136,12 @@ def dry(out, p, cubes=2, n=tissue3d.TISSUE3D["subdivision"], levels=LEVELS, say=
         raise ValueError("the levels must start at the fresh state, s = 1")
     centres = tissue3d.block(p, cubes)
     x, cell, w = tissue3d.write_data(out / "built.data", centres, p, n=n)
+    # the self-avoidance defines the dried levels too (studies/mfc/self_avoidance3d.py
+    # varies it), so a folder says which it was made with
     setup = dict(cubes=cubes, subdivision=n, cells=len(centres), particles=len(x),
-                 levels=levels, seed=seed, solver={**run3d.DEFAULTS, **solver})
+                 levels=levels, seed=seed, solver={**run3d.DEFAULTS, **solver},
+                 self_avoidance=dict(radius=w["self_r0"], E0=w["self_E0"],
+                                     special=list(tissue3d.SELF_SPECIAL)))
     folders.write_json(out / "setup.json", setup)
     say(f"3-D MFC block: {len(centres)} cells, {len(x)} wall particles")
     opts = {k: v for k, v in {**run3d.DEFAULTS, **solver}.items()
