@@ -53,7 +53,7 @@ def arguments(q):
                    help="the ramp's levels between the asked ones: chunk (one chunk of "
                         "minimisation each, the path of the committed references; default) or "
                         "steady (each relaxed to its steady state: a quasi-static drying path, "
-                        "about twice the cost, on which the long tissues widen instead of "
+                        "1.5-2 times the cost, on which the long tissues widen instead of "
                         "elongating: doc/mfc.md)")
     q.add_argument("--newton", type=float, default=mfc_run.DEFAULTS["newton"],
                    help="Newton's method finishes a level once the minimiser's largest force is "

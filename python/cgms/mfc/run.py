@@ -278,7 +278,7 @@ def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
     minimiser started exactly on it never leaves; the kicks of level ``s`` are seeded with
     ``seed + round(1e4 s)``, so a study is reproducible and ``seed`` alone picks which of
     the dried levels' neighbouring minima it lands on. ``steady_stages`` relaxes every
-    intermediate level to its steady state too (a quasi-static path, about twice the cost;
+    intermediate level to its steady state too (a quasi-static path at 1.5-2 times the cost;
     the long tissues reach another dried shape on it: doc/mfc.md, "How well the dried levels
     are determined"). Returns the final :func:`relax` report with the total iterations;
     with ``steady_stages`` also ``unsteady_stages``, the intermediate levels that did not
