@@ -60,6 +60,9 @@ def main(argv=None):
     ap.add_argument("--out", required=True)
     ap.add_argument("--levels", default="1,0.8,0.6")
     ap.add_argument("--resume", action="store_true")
+    ap.add_argument("--stages", choices=("steady", "chunk"), default="steady",
+                    help="the drying path: quasi-static (default) or chunked, as "
+                         "python3 -m cgms mfc --stages")
     args = ap.parse_args(argv)
     out = Path(args.out)
     xy = calibration_tissue()
@@ -75,7 +78,8 @@ def main(argv=None):
     p = parameters()
     print(f"potato.py: MFC of potato, {len(xy)} cells, turgid wall strain "
           f"{100 * p['strain_turgid']:.2f} %, levels {levels}", flush=True)
-    rows = mfc_study.dry(xy, p, folder, levels, say=lambda line: print(line, flush=True))
+    rows = mfc_study.dry(xy, p, folder, levels, steady_stages=args.stages == "steady",
+                         say=lambda line: print(line, flush=True))
     mfc_study.write_table(rows, folder / f"summary-{datetime.now():%H%M%S}.csv")
     for r in rows:
         print(f"  s {r['s']:.2f}  A/A0 {r['A/A0']:.4f}  P/P0 {r['P/P0']:.4f}  "

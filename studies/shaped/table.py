@@ -57,9 +57,13 @@ def layout(name):
     return mat, tissue.rectangle(w * 1e-3, h * 1e-3, mat["x_ref"])
 
 
+#: the MFC reference sets compared against (``--reference``)
+REFERENCE = ROOT / "reference" / "mfc"
+
+
 def mfc(name, s):
     """MFC centroids (n, 2) and cell table at level s, or None."""
-    folder = ROOT / "reference" / "mfc" / name
+    folder = REFERENCE / name
     path = folder / f"centroids.s{s:g}.txt"
     if not path.is_file():
         return None
@@ -224,11 +228,13 @@ def worst(rows, levels):
 FREE = ("EA_ratio", "buckle", "soft", "beta_a", "beta_b", "lamella", "kg_ratio")
 
 
-def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped, max_nfev=40):
+def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped, max_nfev=40,
+        solver=None):
     """least_squares on the tissue's deviations (A/A0, P/P0, EL/EL0 in %, over the
-    targets) and its centroid RMSD (over 10 um) at the dried levels."""
+    targets) and its centroid RMSD (over 10 um) at the dried levels, each state solved by
+    ``solver`` (None: the model's own)."""
     from scipy.optimize import least_squares
-    logs = {"buckle", "EA_ratio", "soft", "kg_ratio"}
+    logs = {"buckle", "EA_ratio", "soft", "kg_ratio", "net_shear"}
 
     def unpack(z):
         p = dict(params)
@@ -239,7 +245,7 @@ def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped, max_
     def resid(z):
         p = unpack(z)
         try:
-            rows = run(name, p, levels, model=model)
+            rows = run(name, p, levels, model=model, solver=solver)
         except (ValueError, np.linalg.LinAlgError) as err:
             print("  failed:", err, flush=True)
             return np.full(4 * (len(levels) - 1), 10.0)
@@ -257,6 +263,7 @@ def fit(name, params, free, levels=(1.0, 0.8, 0.6, 0.4, 0.3), model=shaped, max_
 
 
 def main(argv=None):
+    global REFERENCE
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--model", default="shaped", choices=sorted(MODELS))
     ap.add_argument("--tissues", default="calibration")
@@ -275,7 +282,13 @@ def main(argv=None):
                     "(cgms.shaped_newton; faster, may land on another of the nearby minima)")
     ap.add_argument("--ensemble", default=None, help="folder of the calibration tissue's MFC "
                     "ensemble (measures.csv, centroids.s<s>.txt) to judge against its spread")
+    ap.add_argument("--reference", default=str(REFERENCE), help="folder of the MFC sets, one "
+                    "per tissue (default reference/mfc, the chunked ramp's; reference/mfc/steady: "
+                    "the quasi-static path's)")
     args = ap.parse_args(argv)
+    REFERENCE = Path(args.reference)
+    if not REFERENCE.is_dir():
+        ap.error(f"--reference {args.reference}: no such folder")
     model = MODELS[args.model]
     solver = None
     if args.solver == "newton" and model is not shaped_tensor:
@@ -290,7 +303,7 @@ def main(argv=None):
     if args.fit:
         params, sol = fit(args.fit, params, args.free.split(","),
                           tuple(float(v) for v in args.fit_levels.split(",")), model,
-                          args.max_nfev)
+                          args.max_nfev, solver)
         print("fitted:", json.dumps(params), f"cost {sol.cost:.3f}, {sol.nfev} evaluations",
               flush=True)
     rows = []

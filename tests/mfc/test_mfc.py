@@ -5,6 +5,7 @@
 differences and the analytic ring, single cells fresh and dried, conservation, 1 vs 2 ranks,
 restart, and a tiny ``cgms mfc`` study."""
 
+import hashlib
 import json
 import math
 import os
@@ -663,7 +664,8 @@ def test_ramp_seeds_each_dried_levels_kick(monkeypatch):
         def command(self, line):
             commands.append(line)
 
-    monkeypatch.setattr(mfc_run, "relax", lambda lmp, p, s, **options: dict(iterations=1))
+    monkeypatch.setattr(mfc_run, "relax",
+                        lambda lmp, p, s, **options: dict(iterations=1, converged=True))
     for seed in (1, 7):
         commands.clear()
         mfc_run.ramp(Recorder(), P, 1.0, 0.85, seed=seed)
@@ -675,10 +677,10 @@ def test_ramp_seeds_each_dried_levels_kick(monkeypatch):
 
 
 def test_ramp_relaxes_its_stages_to_steady_state_when_asked(monkeypatch):
-    """By default an intermediate level of the ramp gets one chunk of minimisation at a
-    looser force test and no Newton; with ``steady_stages`` every level gets the options
-    of the asked level (a quasi-static path), with the same kicks, and the report names
-    the intermediate levels that did not reach their steady state."""
+    """On the chunked path an intermediate level of the ramp gets one chunk of
+    minimisation at a looser force test and no Newton; on the quasi-static path (the
+    default) every level gets the options of the asked level, with the same kicks, and
+    the report names the intermediate levels that did not reach their steady state."""
     calls = []
     monkeypatch.setattr(mfc_run, "relax",
                         lambda lmp, p, s, **options: calls.append((s, options))
@@ -693,14 +695,14 @@ def test_ramp_relaxes_its_stages_to_steady_state_when_asked(monkeypatch):
 
     asked = dict(ftol=1e-10, newton=1e-6, max_iterations=20000, chunk=2000)
     chunked, steady = Recorder(), Recorder()
-    report = mfc_run.ramp(chunked, P, 1.0, 0.85, **asked)
+    report = mfc_run.ramp(chunked, P, 1.0, 0.85, steady_stages=False, **asked)
     assert [s for s, _ in calls] == pytest.approx([0.95, 0.9, 0.85])
     assert [o for _, o in calls[:2]] == [dict(asked, max_iterations=2000, ftol=1e3 * 1e-10,
                                               newton=None)] * 2
     assert calls[2][1] == asked
     assert "unsteady_stages" not in report and report["iterations"] == 3
     calls.clear()
-    report = mfc_run.ramp(steady, P, 1.0, 0.85, steady_stages=True, **asked)
+    report = mfc_run.ramp(steady, P, 1.0, 0.85, **asked)
     assert [o for _, o in calls] == [asked] * 3
     assert steady.lines == chunked.lines and len(steady.lines) == 3
     assert report["unsteady_stages"] == pytest.approx([0.9])
@@ -740,11 +742,15 @@ def test_cgms_mfc_tiny_study(tmp_path):
     seeded = subprocess.run(cmd + ["--resume", "--seed", "2"], env=env, capture_output=True,
                             text=True, timeout=300)
     assert seeded.returncode == 1 and "seed: None there, 2 now" in seeded.stderr, seeded.stderr
-    # so is another drying path: a quasi-static study never resumes a chunked one
-    steady = subprocess.run(cmd + ["--resume", "--stages", "steady"], env=env,
-                            capture_output=True, text=True, timeout=300)
-    assert steady.returncode == 1 and "steady_stages: None there, True now" in steady.stderr, \
-        steady.stderr
+    # so is another drying path: a chunked study never resumes a quasi-static one (the
+    # default), and the refusal names the option that would
+    assert json.loads((folder / "setup.json").read_text())["steady_stages"] is True
+    chunked = subprocess.run(cmd + ["--resume", "--stages", "chunk"], env=env,
+                             capture_output=True, text=True, timeout=300)
+    assert chunked.returncode == 1 and ("dried on the quasi-static (--stages steady) path and "
+                                        "this run asks for the chunked (--stages chunk) one"
+                                        in chunked.stderr), chunked.stderr
+    assert "resume it with --stages steady" in chunked.stderr
     for bad_seed in ("0", "-3", str(mfc_run.MAX_SEED + 1), "two"):
         refused = subprocess.run(cmd + ["--resume", "--seed", bad_seed], env=env,
                                  capture_output=True, text=True, timeout=300)
@@ -782,6 +788,30 @@ def test_study_resume_names_a_damaged_record_and_keeps_close_levels_apart(tmp_pa
     with pytest.raises(ValueError, match=r"level\.s1\.json is damaged"):
         mfc_study.dry([[0.0, 0.0]], P, folder, levels=(1.0,))
     assert mfc_study.level_name(0.3) != mfc_study.level_name(0.30000001)
+
+
+def test_study_on_the_chunked_path_is_not_resumed_on_the_quasi_static_one(tmp_path):
+    """A folder made on the chunked ramp (its record has no ``steady_stages``, as every
+    set made before the quasi-static path became the default) is refused by the default
+    resume with the option that continues it; a jump (stage 0) has no levels between and
+    is recorded as before. Only records are read: no LAMMPS run."""
+    from cgms import folders
+    from cgms.mfc import study as mfc_study
+    centres = [[0.0, 0.0]]
+    sha = hashlib.sha256(np.ascontiguousarray(centres, float).tobytes()).hexdigest()
+    old = tmp_path / "old"
+    old.mkdir()
+    folders.write_json(old / "setup.json", dict(centres_sha256=sha, parameters=P))
+    with pytest.raises(folders.FolderError, match=r"dried on the chunked \(--stages chunk\) "
+                       r"path .* resume it with --stages chunk"):
+        mfc_study.dry(centres, P, old, levels=(1.0,))
+    assert "steady_stages" not in json.loads((old / "setup.json").read_text())
+    jump = tmp_path / "jump"
+    jump.mkdir()
+    folders.write_json(jump / "setup.json", dict(centres_sha256=sha, parameters=P, stage=0))
+    with pytest.raises(ValueError, match=r"level\.s1\.json is damaged"):   # past the record
+        (jump / "level.s1.json").write_text("{")
+        mfc_study.dry(centres, P, jump, levels=(1.0,), stage=0)
 
 
 @pytest.mark.lammps

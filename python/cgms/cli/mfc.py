@@ -49,12 +49,13 @@ def arguments(q):
                         "chunk of 2000 iterations (default %(default)g)")
     q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
                    help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
-    q.add_argument("--stages", choices=("chunk", "steady"), default="chunk",
-                   help="the ramp's levels between the asked ones: chunk (one chunk of "
-                        "minimisation each, the path of the committed references; default) or "
-                        "steady (each relaxed to its steady state: a quasi-static drying path, "
-                        "1.5-2 times the cost, on which the long tissues widen instead of "
-                        "elongating: doc/mfc.md)")
+    q.add_argument("--stages", choices=("steady", "chunk"), default=None,
+                   help="the ramp's levels between the asked ones: steady (each relaxed to its "
+                        "steady state: the quasi-static path of a slowly dried tissue and of "
+                        "the committed references; default) or chunk (one chunk of "
+                        "minimisation each, 1.5-2 times cheaper, not at rest: the path of the "
+                        "sets made before 2026-12-04, on which the long tissues elongate "
+                        "instead of widening: doc/mfc.md)")
     q.add_argument("--newton", type=float, default=mfc_run.DEFAULTS["newton"],
                    help="Newton's method finishes a level once the minimiser's largest force is "
                         "below this, N (default %(default)g; 0: the minimiser alone, with the "
@@ -100,12 +101,14 @@ def main(args):
     levels = args.dryness
     if not 0 <= args.stage < 1:
         raise UsageError(f"--stage must be in [0, 1), got {args.stage}")
+    if args.stages is None:   # a jump (--stage 0) has no levels between: nothing to relax
+        args.stages = "steady" if args.stage > 0 else "chunk"
     if args.stages == "steady" and args.stage == 0:
         # a jump has no levels between the asked ones: steady would change nothing but
         # the folder's record, which then refuses to resume the identical --stage 0 study
-        raise UsageError("--stages steady relaxes the ramp's levels between the asked ones, "
-                         "and --stage 0 jumps (there are none): give --stage above 0, or "
-                         "leave out --stages")
+        raise UsageError("--stages steady relaxes the ramp's levels between "
+                         "the asked ones, and --stage 0 jumps (there are none): give --stage "
+                         "above 0, or leave out --stages")
     if not args.newton >= 0:
         raise UsageError(f"--newton must be >= 0 (N; 0: off), got {args.newton}")
     T = args.temperature

@@ -25,9 +25,13 @@ it gets up to ``SPENT_NEWTON_CALLS`` calls (of 40 steps), and stops early when i
 lower the energy (the driest levels of the 203- and 248-cell tissues needed more than one).
 
 Drying path (the ramp): the fresh tissue is relaxed first; every later level starts from
-the previous level's steady state and passes through intermediate levels ``stage`` apart
-(one chunk of minimisation each), as a slowly dried tissue would. A jump from s = 1 to 0.8
-in one go starts the fluid at -16 MPa.
+the previous level's steady state and passes through intermediate levels ``stage`` apart,
+each relaxed to its steady state too: a quasi-static path, as a slowly dried tissue takes
+(drying takes hours, a cell's walls come to rest in well under a second). The path matters:
+with one chunk of minimisation per intermediate level (``steady_stages`` off, the path of
+the sets made before 2026-12-04) the long tissues reach another dried shape (doc/mfc.md,
+"The long tissues' two dried shapes"). A jump from s = 1 to 0.8 in one go starts the fluid
+at -16 MPa.
 """
 
 import math
@@ -38,7 +42,7 @@ from .model import level
 
 DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
                 max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg",
-                newton=1e-6, seed=1)
+                newton=1e-6, seed=1, steady_stages=True)
 
 #: largest kick seed: LAMMPS's random seeds stop at 2^31 - 1, and a level adds up to 1e4 to it
 MAX_SEED = 2**31 - 1 - 10**4
@@ -270,17 +274,16 @@ def stages(s_from, s_to, stage):
 
 
 def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
-         seed=DEFAULTS["seed"], steady_stages=False, **kwargs):
+         seed=DEFAULTS["seed"], steady_stages=DEFAULTS["steady_stages"], **kwargs):
     """From the steady state at ``s_from`` (None: the built tissue) to that at ``s_to``
-    through the intermediate levels (one chunk of minimisation each). Before each
+    through the intermediate levels (module doc: each at rest, or with ``steady_stages``
+    off one chunk of minimisation at a 1e3 times looser force test). Before each
     dried level every wall particle is displaced at random by up to ``kick`` (m): a
     contracted wall held at its circle is a saddle (it must buckle: MFC.md 5.3), which a
     minimiser started exactly on it never leaves; the kicks of level ``s`` are seeded with
     ``seed + round(1e4 s)``, so a study is reproducible and ``seed`` alone picks which of
-    the dried levels' neighbouring minima it lands on. ``steady_stages`` relaxes every
-    intermediate level to its steady state too (a quasi-static path at 1.5-2 times the cost;
-    the long tissues reach another dried shape on it: doc/mfc.md, "How well the dried levels
-    are determined"). Returns the final :func:`relax` report with the total iterations;
+    the dried levels' neighbouring minima it lands on. The quasi-static path costs 1.5-2
+    times the chunked one. Returns the final :func:`relax` report with the total iterations;
     with ``steady_stages`` also ``unsteady_stages``, the intermediate levels that did not
     reach their steady state (the iterations spent first), so a path that was not
     quasi-static says so."""
@@ -291,8 +294,8 @@ def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
             lmp.command(f"displace_atoms all random {kick:.10g} {kick:.10g} 0 "
                         f"{seed + int(round(1e4 * s))} units box")
         last = k == len(levels) - 1
-        # an intermediate level is one chunk (or less, at 1e3 ftol): a gentle path, not a
-        # steady state (relaxing each to its steady state doubles the 86-cell cost)
+        # off the quasi-static path an intermediate level is one chunk (or less, at 1e3
+        # ftol): cheaper, but not at rest, and the long tissues then elongate instead
         options = dict(kwargs) if last or steady_stages else dict(
             kwargs, max_iterations=kwargs.get("chunk", DEFAULTS["chunk"]),
             ftol=1e3 * kwargs.get("ftol", DEFAULTS["ftol"]), newton=None)

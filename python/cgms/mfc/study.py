@@ -72,17 +72,22 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     drying ramp of :func:`cgms.mfc.run.ramp`. Returns the per-level summaries.
     ``out/setup.json`` records the centres, the parameters and the solver options,
     the ramp's kick ``seed`` among them; a folder with another record is refused
-    (FolderError), so a resume never mixes them. The default seed and the default path
+    (FolderError), so a resume never mixes them. The default seed and the chunked path
     (``steady_stages`` off) are left out of the record: folders made before they were
-    options used them and resume as they are."""
+    options used them and resume as they are; a resume on the other path is refused by
+    name."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    # a jump (stage 0) has no levels between the asked ones: nothing to relax on the way
+    solver.setdefault("steady_stages", mfc_run.DEFAULTS["steady_stages"]
+                      and solver.get("stage", mfc_run.DEFAULTS["stage"]) > 0)
     centres_sha256 = hashlib.sha256(np.ascontiguousarray(centres, float).tobytes()).hexdigest()
     recorded = {k: solver[k] for k in sorted(solver)
                 if not (k == "seed" and solver[k] == mfc_run.DEFAULTS["seed"])
                 and not (k == "steady_stages" and not solver[k])}
-    folders.same_setup(out / "setup.json", dict(centres_sha256=centres_sha256, parameters=p,
-                                                **recorded))
+    setup = dict(centres_sha256=centres_sha256, parameters=p, **recorded)
+    _same_path(out / "setup.json", setup)
+    folders.same_setup(out / "setup.json", setup)
     levels = sorted({1.0, *map(float, levels)}, reverse=True)
     data = out / "walls.data"
     if not data.exists():
@@ -152,6 +157,22 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
         if lmp is not None:
             lmp.close()
     return results
+
+
+def _same_path(record, setup):
+    """A folder dried on the other path (quasi-static or chunked) is refused with the
+    option that resumes it: the generic record check would only say ``steady_stages:
+    None there, True now``."""
+    if not Path(record).exists():
+        return
+    old = folders.read_json(record)
+    was, now = bool(old.get("steady_stages")), bool(setup.get("steady_stages"))
+    if was != now:
+        name = {True: "quasi-static (--stages steady)", False: "chunked (--stages chunk)"}
+        raise folders.FolderError(
+            f"{Path(record).parent} was dried on the {name[was]} path and this run asks for "
+            f"the {name[now]} one; the two reach different dried shapes (doc/mfc.md), so "
+            f"resume it with --stages {'steady' if was else 'chunk'} or choose another --out")
 
 
 class RingFailure(RuntimeError):
