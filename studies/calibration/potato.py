@@ -20,7 +20,7 @@ from datetime import datetime
 from pathlib import Path
 
 from cgms import material, tissue
-from cgms.mfc import model as mfc_model, study as mfc_study
+from cgms.mfc import model as mfc_model, run as mfc_run, study as mfc_study
 
 #: the MFC values potato changes (the rest are mfc_model.MFC's):
 #: - wall_Et: the wall is given the same turgid strain as apple's MFC wall (4.5 %:
@@ -78,7 +78,10 @@ def main(argv=None):
     p = parameters()
     print(f"potato.py: MFC of potato, {len(xy)} cells, turgid wall strain "
           f"{100 * p['strain_turgid']:.2f} %, levels {levels}", flush=True)
-    rows = mfc_study.dry(xy, p, folder, levels, steady_stages=args.stages == "steady",
+    steady = args.stages == "steady"
+    rows = mfc_study.dry(xy, p, folder, levels, steady_stages=steady,
+                         stage=mfc_run.REFERENCE_PATH["stage"] if steady else
+                         mfc_run.DEFAULTS["stage"],
                          say=lambda line: print(line, flush=True))
     mfc_study.write_table(rows, folder / f"summary-{datetime.now():%H%M%S}.csv")
     for r in rows:

@@ -677,10 +677,11 @@ def test_ramp_seeds_each_dried_levels_kick(monkeypatch):
 
 
 def test_ramp_relaxes_its_stages_to_steady_state_when_asked(monkeypatch):
-    """On the chunked path an intermediate level of the ramp gets one chunk of
-    minimisation at a looser force test and no Newton; on the quasi-static path (the
-    default) every level gets the options of the asked level, with the same kicks, and
-    the report names the intermediate levels that did not reach their steady state."""
+    """On the chunked path (the ramp's own default) an intermediate level gets one chunk
+    of minimisation at a looser force test and no Newton; on the quasi-static path (the
+    reference path of cgms mfc) every level gets the options of the asked level, with
+    the same kicks, and the report names the intermediate levels that did not reach their
+    steady state."""
     calls = []
     monkeypatch.setattr(mfc_run, "relax",
                         lambda lmp, p, s, **options: calls.append((s, options))
@@ -695,14 +696,14 @@ def test_ramp_relaxes_its_stages_to_steady_state_when_asked(monkeypatch):
 
     asked = dict(ftol=1e-10, newton=1e-6, max_iterations=20000, chunk=2000)
     chunked, steady = Recorder(), Recorder()
-    report = mfc_run.ramp(chunked, P, 1.0, 0.85, steady_stages=False, **asked)
+    report = mfc_run.ramp(chunked, P, 1.0, 0.85, **asked)
     assert [s for s, _ in calls] == pytest.approx([0.95, 0.9, 0.85])
     assert [o for _, o in calls[:2]] == [dict(asked, max_iterations=2000, ftol=1e3 * 1e-10,
                                               newton=None)] * 2
     assert calls[2][1] == asked
     assert "unsteady_stages" not in report and report["iterations"] == 3
     calls.clear()
-    report = mfc_run.ramp(steady, P, 1.0, 0.85, **asked)
+    report = mfc_run.ramp(steady, P, 1.0, 0.85, steady_stages=True, **asked)
     assert [o for _, o in calls] == [asked] * 3
     assert steady.lines == chunked.lines and len(steady.lines) == 3
     assert report["unsteady_stages"] == pytest.approx([0.9])

@@ -47,15 +47,17 @@ def arguments(q):
     q.add_argument("--shift", type=positive_float, default=mfc_run.DEFAULTS["shift"],
                    help="steady state, or: no cell centroid moved more than this (m) over a "
                         "chunk of 2000 iterations (default %(default)g)")
-    q.add_argument("--stage", type=float, default=mfc_run.DEFAULTS["stage"],
-                   help="dryness step of the ramp between levels (default %(default)g; 0: jump)")
+    q.add_argument("--stage", type=float, default=None,
+                   help=f"dryness step of the ramp between levels (default "
+                        f"{mfc_run.REFERENCE_PATH['stage']:g} on the quasi-static path, "
+                        f"{mfc_run.DEFAULTS['stage']:g} on the chunked one; 0: jump)")
     q.add_argument("--stages", choices=("steady", "chunk"), default=None,
                    help="the ramp's levels between the asked ones: steady (each relaxed to its "
                         "steady state: the quasi-static path of a slowly dried tissue and of "
-                        "the committed references; default) or chunk (one chunk of "
-                        "minimisation each, 1.5-2 times cheaper, not at rest: the path of the "
-                        "sets made before 2026-12-04, on which the long tissues elongate "
-                        "instead of widening: doc/mfc.md)")
+                        "reference/mfc/steady; default) or chunk (one chunk of minimisation "
+                        "each, about half the cost at its own --stage, not at rest; the "
+                        "path of the sets in reference/mfc/, on which the long tissues "
+                        "elongate instead of widening: doc/mfc.md)")
     q.add_argument("--newton", type=float, default=mfc_run.DEFAULTS["newton"],
                    help="Newton's method finishes a level once the minimiser's largest force is "
                         "below this, N (default %(default)g; 0: the minimiser alone, with the "
@@ -99,10 +101,13 @@ def main(args):
     """Run the study; returns an exit status."""
     from .options import UsageError
     levels = args.dryness
-    if not 0 <= args.stage < 1:
+    if args.stage is not None and not 0 <= args.stage < 1:
         raise UsageError(f"--stage must be in [0, 1), got {args.stage}")
     if args.stages is None:   # a jump (--stage 0) has no levels between: nothing to relax
-        args.stages = "steady" if args.stage > 0 else "chunk"
+        args.stages = "chunk" if args.stage == 0 else "steady"
+    if args.stage is None:    # each path's own default, that of the sets made on it
+        args.stage = mfc_run.REFERENCE_PATH["stage"] if args.stages == "steady" else \
+            mfc_run.DEFAULTS["stage"]
     if args.stages == "steady" and args.stage == 0:
         # a jump has no levels between the asked ones: steady would change nothing but
         # the folder's record, which then refuses to resume the identical --stage 0 study

@@ -25,11 +25,13 @@ it gets up to ``SPENT_NEWTON_CALLS`` calls (of 40 steps), and stops early when i
 lower the energy (the driest levels of the 203- and 248-cell tissues needed more than one).
 
 Drying path (the ramp): the fresh tissue is relaxed first; every later level starts from
-the previous level's steady state and passes through intermediate levels ``stage`` apart,
-each relaxed to its steady state too: a quasi-static path, as a slowly dried tissue takes
+the previous level's steady state and passes through intermediate levels ``stage`` apart.
+The reference path (``REFERENCE_PATH``) relaxes each of them to its steady state too,
+0.025 apart: a quasi-static path, as a slowly dried tissue takes
 (drying takes hours, a cell's walls come to rest in well under a second). The path matters:
-with one chunk of minimisation per intermediate level (``steady_stages`` off, the path of
-the sets made before 2026-12-04) the long tissues reach another dried shape (doc/mfc.md,
+with one chunk of minimisation per intermediate level, 0.05 apart (``steady_stages`` off,
+:func:`ramp`'s defaults and the path of the sets made before 2026-12-04) the long tissues
+reach another dried shape (doc/mfc.md,
 "The long tissues' two dried shapes"). A jump from s = 1 to 0.8 in one go starts the fluid
 at -16 MPa.
 """
@@ -42,7 +44,14 @@ from .model import level
 
 DEFAULTS = dict(ftol=1e-10, shift=5e-8, area=1e-4, chunk=2000, stage=0.05,
                 max_iterations=20000, timestep=5e-9, dmax=2e-7, kick=1e-7, style="cg",
-                newton=1e-6, seed=1, steady_stages=True)
+                newton=1e-6, seed=1, steady_stages=False)
+
+#: the reference path of ``cgms mfc`` and :func:`cgms.mfc.study.dry`: every stage relaxed to
+#: its steady state, stages 0.025 apart (the dried shape still moves between stages of 0.05
+#: and 0.025, and no longer between 0.025 and 0.0125: doc/mfc.md, "Path (the ramp)").
+#: :func:`ramp`'s own defaults stay the chunked path (one chunk per stage, 0.05 apart) of
+#: the sets and studies made before, which call it directly
+REFERENCE_PATH = dict(steady_stages=True, stage=0.025)
 
 #: largest kick seed: LAMMPS's random seeds stop at 2^31 - 1, and a level adds up to 1e4 to it
 MAX_SEED = 2**31 - 1 - 10**4
@@ -276,8 +285,8 @@ def stages(s_from, s_to, stage):
 def ramp(lmp, p, s_from, s_to, stage=DEFAULTS["stage"], kick=DEFAULTS["kick"],
          seed=DEFAULTS["seed"], steady_stages=DEFAULTS["steady_stages"], **kwargs):
     """From the steady state at ``s_from`` (None: the built tissue) to that at ``s_to``
-    through the intermediate levels (module doc: each at rest, or with ``steady_stages``
-    off one chunk of minimisation at a 1e3 times looser force test). Before each
+    through the intermediate levels (module doc: one chunk of minimisation each at a 1e3
+    times looser force test, or with ``steady_stages`` each at rest). Before each
     dried level every wall particle is displaced at random by up to ``kick`` (m): a
     contracted wall held at its circle is a saddle (it must buckle: MFC.md 5.3), which a
     minimiser started exactly on it never leaves; the kicks of level ``s`` are seeded with

@@ -69,7 +69,8 @@ def glue_fresh_lamella(out, centres, p):
 def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     """Relax the MFC tissue whose cells sit at ``centres`` (CGMS bead positions, m) at
     every level (descending; the fresh level 1 first, it is the reference), along the
-    drying ramp of :func:`cgms.mfc.run.ramp`. Returns the per-level summaries.
+    drying ramp of :func:`cgms.mfc.run.ramp`, by default on its reference path
+    (``REFERENCE_PATH``: quasi-static, stages 0.025 apart). Returns the per-level summaries.
     ``out/setup.json`` records the centres, the parameters and the solver options,
     the ramp's kick ``seed`` among them; a folder with another record is refused
     (FolderError), so a resume never mixes them. The default seed and the chunked path
@@ -78,9 +79,10 @@ def dry(centres, p, out, levels=(1.0, 0.8, 0.6, 0.4, 0.3), say=print, **solver):
     name."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
+    solver.setdefault("stage", mfc_run.REFERENCE_PATH["stage"])
     # a jump (stage 0) has no levels between the asked ones: nothing to relax on the way
-    solver.setdefault("steady_stages", mfc_run.DEFAULTS["steady_stages"]
-                      and solver.get("stage", mfc_run.DEFAULTS["stage"]) > 0)
+    solver.setdefault("steady_stages", mfc_run.REFERENCE_PATH["steady_stages"]
+                      and solver["stage"] > 0)
     centres_sha256 = hashlib.sha256(np.ascontiguousarray(centres, float).tobytes()).hexdigest()
     recorded = {k: solver[k] for k in sorted(solver)
                 if not (k == "seed" and solver[k] == mfc_run.DEFAULTS["seed"])
